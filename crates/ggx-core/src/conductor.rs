@@ -1,0 +1,175 @@
+//! The GGX microfacet reflection BRDF (Cook-Torrance with height-correlated Smith G2).
+
+use crate::fresnel::{Fresnel, FresnelParams};
+use crate::math::{finite_or_zero, normalize_or_zero, sanitize_u2};
+use crate::sampling::Sampling;
+use crate::warp;
+use crate::{TrowbridgeReitz, reflect};
+use glam::{Vec2, Vec3};
+
+/// A sampled direction and its Monte Carlo weight.
+#[derive(Clone, Copy, PartialEq)]
+#[cfg_attr(not(target_arch = "spirv"), derive(Debug))]
+pub struct BsdfSample {
+    /// Sampled incident direction (unit, `z > 0`).
+    pub wi: Vec3,
+    /// `eval(wo, wi) / pdf`, i.e. `f |cos theta_i| / pdf`; for a delta lobe, `F`.
+    pub weight: Vec3,
+    /// Solid-angle density of `wi` under the chosen technique; 1 for a delta lobe.
+    pub pdf: f32,
+    /// True when the lobe is a mirror (alpha below [`crate::DELTA_ALPHA`]).
+    pub is_delta: bool,
+}
+
+/// GGX reflection off a conductor (or any interface whose transmission is discarded):
+/// `f(wo, wi) = F(wo . wm) D(wm) G2(wo, wi) / (4 |wo.z| |wi.z|)` with the height-correlated
+/// `G2`. 64-byte `#[repr(C)]` POD, ready to upload to a GPU.
+#[repr(C)]
+#[derive(Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+#[cfg_attr(not(target_arch = "spirv"), derive(Debug))]
+pub struct GgxConductor {
+    /// The microfacet distribution.
+    pub distribution: TrowbridgeReitz,
+    /// Padding to 16 bytes.
+    pub pad: [u32; 2],
+    /// The Fresnel model.
+    pub fresnel: FresnelParams,
+}
+
+/// `2 (|wi.z| s(wo) + |wo.z| s(wi))`: the shared denominator of `eval` and every weight,
+/// from `G2 / (4 zo zi) = 1 / (2 (zi so + zo si))`.
+#[inline(always)]
+fn g2_denominator(d: &TrowbridgeReitz, wo: Vec3, wi: Vec3, so: f32) -> f32 {
+    2.0 * (wi.z * so + wo.z * d.stretched_len(wi))
+}
+
+impl GgxConductor {
+    /// BRDF with alphas clamped to `[ALPHA_MIN, ALPHA_MAX]`; a lobe with both alphas below
+    /// [`crate::DELTA_ALPHA`] is a mirror.
+    #[inline]
+    pub fn new(alpha_x: f32, alpha_y: f32, fresnel: Fresnel) -> Self {
+        Self { distribution: TrowbridgeReitz::new(alpha_x, alpha_y), pad: [0; 2], fresnel: fresnel.into() }
+    }
+
+    /// Isotropic BRDF.
+    #[inline]
+    pub fn isotropic(alpha: f32, fresnel: Fresnel) -> Self {
+        Self::new(alpha, alpha, fresnel)
+    }
+
+    /// The Fresnel model as an enum.
+    pub fn fresnel(&self) -> Fresnel {
+        self.fresnel.to_fresnel()
+    }
+
+    /// True when the lobe is a mirror: `sample` returns the reflection, `eval` and `pdf` are 0.
+    #[inline]
+    pub fn is_delta(&self) -> bool {
+        self.distribution.is_effectively_smooth()
+    }
+
+    /// `f(wo, wi) |wi.z| = F D G2 / (4 |wo.z|) = F D |wi.z| / (2 (|wi.z| so + |wo.z| si))`;
+    /// zero when either direction is at or below the horizon, for a delta lobe, and for
+    /// degenerate input. Inputs need not be normalized.
+    #[inline]
+    pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        let (wo, wi) = (normalize_or_zero(wo), normalize_or_zero(wi));
+        if !(wo.z > 0.0 && wi.z > 0.0) || self.is_delta() {
+            return Vec3::ZERO;
+        }
+        let wm = normalize_or_zero(wo + wi);
+        let d = &self.distribution;
+        let so = d.stretched_len(wo);
+        let f = d.d(wm) * wi.z / g2_denominator(d, wo, wi, so);
+        self.fresnel.eval(wo.dot(wm)) * finite_or_zero(f)
+    }
+
+    /// Solid-angle density with which [`Self::sample`] returns `wi` for the technique:
+    /// NDF `D(wm) wm.z / (4 wo.wm)`, VNDF and spherical caps `D_wo(wm) / (4 wo.wm) =
+    /// D(wm) / (2 (wo.z + so))`, bounded `D(wm) / (2 (k wo.z + so))`, cosine `wi.z / pi`,
+    /// uniform `1 / (2 pi)`. Zero below the horizon and for a delta lobe.
+    #[inline]
+    pub fn pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling) -> f32 {
+        let (wo, wi) = (normalize_or_zero(wo), normalize_or_zero(wi));
+        if !(wo.z > 0.0 && wi.z > 0.0) || self.is_delta() {
+            return 0.0;
+        }
+        let d = &self.distribution;
+        let wm = normalize_or_zero(wo + wi);
+        let pdf = match sampling {
+            Sampling::Ndf => d.pdf_wm_ndf(wm) / (4.0 * wo.dot(wm)),
+            Sampling::Vndf | Sampling::SphericalCaps => d.d(wm) / (2.0 * (wo.z + d.stretched_len(wo))),
+            Sampling::Bounded => d.pdf_wi_bounded(wo, wm),
+            Sampling::Cosine => warp::pdf_cosine_hemisphere(wi),
+            Sampling::Uniform => warp::pdf_uniform_hemisphere(wi),
+        };
+        finite_or_zero(pdf)
+    }
+
+    /// Draws `wi` for `wo` with the technique. `None` when `wo.z <= 0`, when the sample falls
+    /// at or below the horizon or on a back-facing microfacet, or for degenerate input.
+    /// Weights are closed forms that never divide by `D`: VNDF `F G2 / G1(wo)`, bounded
+    /// `F zi (k zo + so) / (zi so + zo si)`, NDF `F G2 |wo.wm| / (zo wm.z)`.
+    #[inline]
+    pub fn sample(&self, wo: Vec3, u: Vec2, sampling: Sampling) -> Option<BsdfSample> {
+        let wo = normalize_or_zero(wo);
+        if !(wo.z > 0.0) {
+            return None;
+        }
+        let u = sanitize_u2(u);
+        if self.is_delta() {
+            let weight = self.fresnel.eval(wo.z);
+            return Some(BsdfSample { wi: Vec3::new(-wo.x, -wo.y, wo.z), weight, pdf: 1.0, is_delta: true });
+        }
+        let d = &self.distribution;
+        let (wi, pdf, weight) = match sampling {
+            Sampling::Cosine | Sampling::Uniform => {
+                let wi = if sampling == Sampling::Cosine {
+                    warp::sample_cosine_hemisphere(u)
+                } else {
+                    warp::sample_uniform_hemisphere(u)
+                };
+                let pdf = self.pdf(wo, wi, sampling);
+                let f = self.eval(wo, wi);
+                (wi, pdf, f / pdf)
+            }
+            _ => {
+                let wm = match sampling {
+                    Sampling::Ndf => d.sample_wm_ndf(u),
+                    Sampling::SphericalCaps => d.sample_wm_spherical_caps(wo, u),
+                    Sampling::Bounded => d.sample_wm_bounded(wo, u),
+                    _ => d.sample_wm_vndf(wo, u),
+                };
+                let cos_om = wo.dot(wm);
+                if !(cos_om > 0.0) {
+                    return None;
+                }
+                let wi = normalize_or_zero(reflect(wo, wm));
+                if !(wi.z > 0.0) {
+                    return None;
+                }
+                // Weight and pdf from the half vector of the returned pair, so that they agree
+                // with eval(wo, wi) / pdf(wo, wi) even where reflect() cancels at grazing angles.
+                let wm = normalize_or_zero(wo + wi);
+                let cos_om = wo.dot(wm);
+                let so = d.stretched_len(wo);
+                let denom = g2_denominator(d, wo, wi, so);
+                let (pdf, scale) = match sampling {
+                    Sampling::Ndf => (d.pdf_wm_ndf(wm) / (4.0 * cos_om), 4.0 * wi.z * cos_om / (wm.z * denom)),
+                    Sampling::Bounded => {
+                        let c = d.bounded_k(wo) * wo.z + so;
+                        // <= 1 analytically (k <= 1, zi <= si); the min guards subnormal rounding.
+                        (d.d(wm) / (2.0 * c), (2.0 * wi.z * c / denom).min(1.0))
+                    }
+                    // G2 / G1(wo) <= 1.
+                    _ => (d.d(wm) / (2.0 * (wo.z + so)), (2.0 * wi.z * (wo.z + so) / denom).min(1.0)),
+                };
+                (wi, pdf, self.fresnel.eval(cos_om) * scale)
+            }
+        };
+        if !(pdf > 0.0 && pdf.is_finite() && weight.is_finite()) {
+            return None;
+        }
+        Some(BsdfSample { wi, weight, pdf, is_delta: false })
+    }
+}

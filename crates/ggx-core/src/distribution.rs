@@ -1,0 +1,133 @@
+//! The Trowbridge-Reitz (GGX) microfacet distribution and its Smith masking functions.
+
+use crate::alpha::{DELTA_ALPHA, clamp_alpha};
+use crate::math::{finite_or_zero, sqrt};
+use core::f32::consts::PI;
+use glam::Vec3;
+
+/// Anisotropic GGX distribution with widths `alpha_x`, `alpha_y` (clamped to
+/// `[ALPHA_MIN, ALPHA_MAX]` by [`TrowbridgeReitz::new`]).
+///
+/// All functions take tangent-space unit vectors and return 0 (never NaN or infinity,
+/// except [`TrowbridgeReitz::lambda`], which is `+inf` at exactly grazing angles) where the
+/// quantity is undefined.
+#[repr(C)]
+#[derive(Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+#[cfg_attr(not(target_arch = "spirv"), derive(Debug))]
+pub struct TrowbridgeReitz {
+    /// Width along the tangent `x`.
+    pub alpha_x: f32,
+    /// Width along the tangent `y`.
+    pub alpha_y: f32,
+}
+
+impl TrowbridgeReitz {
+    /// Distribution with the given alphas, each clamped to `[ALPHA_MIN, ALPHA_MAX]`.
+    #[inline]
+    pub fn new(alpha_x: f32, alpha_y: f32) -> Self {
+        Self { alpha_x: clamp_alpha(alpha_x), alpha_y: clamp_alpha(alpha_y) }
+    }
+
+    /// Isotropic distribution (`alpha_x = alpha_y = alpha`).
+    #[inline]
+    pub fn isotropic(alpha: f32) -> Self {
+        let a = clamp_alpha(alpha);
+        Self { alpha_x: a, alpha_y: a }
+    }
+
+    /// True when both alphas are equal, which enables the isotropic fast paths.
+    #[inline]
+    pub fn is_isotropic(&self) -> bool {
+        self.alpha_x == self.alpha_y
+    }
+
+    /// True when the lobe is rendered as a mirror: `max(alpha_x, alpha_y) < DELTA_ALPHA`.
+    #[inline]
+    pub fn is_effectively_smooth(&self) -> bool {
+        self.alpha_x.max(self.alpha_y) < DELTA_ALPHA
+    }
+
+    /// `alpha_x^2 w.x^2 + alpha_y^2 w.y^2`, the squared length of the stretched tangential part.
+    #[inline(always)]
+    pub(crate) fn alpha2_xy(&self, w: Vec3) -> f32 {
+        if self.is_isotropic() {
+            self.alpha_x * self.alpha_x * (w.x * w.x + w.y * w.y)
+        } else {
+            let (x, y) = (self.alpha_x * w.x, self.alpha_y * w.y);
+            x * x + y * y
+        }
+    }
+
+    /// `|(alpha_x w.x, alpha_y w.y, w.z)|`, the length of `w` in the stretched (alpha = 1) space.
+    /// Never below `|w.z|`, even where `w.z^2` underflows, so `G1 <= 1` and weights stay bounded.
+    #[inline(always)]
+    pub(crate) fn stretched_len(&self, w: Vec3) -> f32 {
+        sqrt(w.z * w.z + self.alpha2_xy(w)).max(w.z.abs())
+    }
+
+    /// Normal distribution, Walter et al. 2007 eq. 33 in the quadratic form:
+    /// `D(wm) = 1 / (pi ax ay (x^2/ax^2 + y^2/ay^2 + z^2)^2)`, 0 for `wm.z <= 0`.
+    #[inline]
+    pub fn d(&self, wm: Vec3) -> f32 {
+        if !(wm.z > 0.0) {
+            return 0.0;
+        }
+        let t = if self.is_isotropic() {
+            (wm.x * wm.x + wm.y * wm.y) / (self.alpha_x * self.alpha_x) + wm.z * wm.z
+        } else {
+            let (x, y) = (wm.x / self.alpha_x, wm.y / self.alpha_y);
+            x * x + y * y + wm.z * wm.z
+        };
+        finite_or_zero(1.0 / (PI * self.alpha_x * self.alpha_y * t * t))
+    }
+
+    /// Smith Lambda, Heitz 2014 eq. 86: `(sqrt(1 + q) - 1) / 2` with
+    /// `q = (ax^2 x^2 + ay^2 y^2) / z^2`, written as `q / (2 (1 + sqrt(1 + q)))` to avoid
+    /// cancellation. Depends on `|w.z|` (pbrt-v4 convention); `+inf` when `w.z = 0`.
+    #[inline]
+    pub fn lambda(&self, w: Vec3) -> f32 {
+        let q = self.alpha2_xy(w) / (w.z * w.z);
+        if q.is_nan() {
+            return 0.0;
+        }
+        if q == f32::INFINITY {
+            return f32::INFINITY;
+        }
+        q / (2.0 * (1.0 + sqrt(1.0 + q)))
+    }
+
+    /// Smith masking, `G1 = 1 / (1 + Lambda) = 2|z| / (|z| + sqrt(z^2 + ax^2 x^2 + ay^2 y^2))`
+    /// (stable at grazing angles, 0 at `z = 0`).
+    #[inline]
+    pub fn g1(&self, w: Vec3) -> f32 {
+        let z = w.z.abs();
+        finite_or_zero(2.0 * z / (z + self.stretched_len(w))).min(1.0)
+    }
+
+    /// Height-correlated masking-shadowing, Heitz 2014 eq. 99:
+    /// `G2 = 1 / (1 + Lambda(wo) + Lambda(wi)) = 2 |zo| |zi| / (|zi| so + |zo| si)`,
+    /// with `s = |(ax x, ay y, z)|`.
+    #[inline]
+    pub fn g2(&self, wo: Vec3, wi: Vec3) -> f32 {
+        let (zo, zi) = (wo.z.abs(), wi.z.abs());
+        finite_or_zero(2.0 * zo * zi / (zi * self.stretched_len(wo) + zo * self.stretched_len(wi))).min(1.0)
+    }
+
+    /// Separable (uncorrelated) masking-shadowing, `G2 = G1(wo) G1(wi)` (Mitsuba 3's form).
+    #[inline]
+    pub fn g2_separable(&self, wo: Vec3, wi: Vec3) -> f32 {
+        self.g1(wo) * self.g1(wi)
+    }
+
+    /// Distribution of normals visible from `w`, Heitz 2014 eq. 2:
+    /// `D_w(wm) = G1(w) max(0, w . wm) D(wm) / w.z = 2 D(wm) max(0, w . wm) / (w.z + s)`.
+    /// Zero for `w.z <= 0`.
+    #[inline]
+    pub fn d_visible(&self, w: Vec3, wm: Vec3) -> f32 {
+        if !(w.z > 0.0) {
+            return 0.0;
+        }
+        let cos = w.dot(wm).max(0.0);
+        finite_or_zero(2.0 * self.d(wm) * cos / (w.z + self.stretched_len(w)))
+    }
+}

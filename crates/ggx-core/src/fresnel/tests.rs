@@ -1,0 +1,98 @@
+use super::*;
+
+/// f64 reference of the dielectric Fresnel equations.
+fn dielectric_f64(cos_i: f64, eta: f64) -> f64 {
+    let (cos_i, eta) = if cos_i < 0.0 { (-cos_i, 1.0 / eta) } else { (cos_i, eta) };
+    let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
+    if sin2_t >= 1.0 {
+        return 1.0;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    let rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    let rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    0.5 * (rs * rs + rp * rp)
+}
+
+/// f64 reference of the conductor reflectance, Born & Wolf's real-valued form
+/// (a^2 + b^2 = sqrt((n^2 - k^2 - sin^2)^2 + 4 n^2 k^2)).
+fn conductor_f64(cos_i: f64, n: f64, k: f64) -> f64 {
+    let s2 = 1.0 - cos_i * cos_i;
+    let t0 = n * n - k * k - s2;
+    let a2b2 = (t0 * t0 + 4.0 * n * n * k * k).sqrt();
+    let a = (0.5 * (a2b2 + t0)).max(0.0).sqrt();
+    let t1 = a2b2 + cos_i * cos_i;
+    let t2 = 2.0 * cos_i * a;
+    let rs = (t1 - t2) / (t1 + t2);
+    let t3 = cos_i * cos_i * a2b2 + s2 * s2;
+    let t4 = t2 * s2;
+    let rp = rs * (t3 - t4) / (t3 + t4);
+    0.5 * (rp + rs)
+}
+
+#[test]
+fn dielectric_matches_f64_inside_and_outside() {
+    for eta in [1.0f32, 1.33, 1.5, 2.4] {
+        for i in -100..=100 {
+            let c = i as f32 / 100.0;
+            let f = fresnel_dielectric(c, eta) as f64;
+            let r = dielectric_f64(c as f64, eta as f64);
+            assert!((f - r).abs() < 2e-6, "cos {c} eta {eta}: {f} vs {r}");
+        }
+    }
+    // Glass at normal incidence: ((1.5 - 1) / (1.5 + 1))^2 = 0.04.
+    assert!((fresnel_dielectric(1.0, 1.5) - 0.04).abs() < 1e-6);
+    // Total internal reflection from inside beyond the critical angle (41.8 degrees).
+    assert_eq!(fresnel_dielectric(-0.5, 1.5), 1.0);
+    assert_eq!(fresnel_dielectric(0.0, 1.5), 1.0);
+}
+
+#[test]
+fn conductor_matches_f64_and_reduces_to_dielectric_without_absorption() {
+    let metals = [(0.143f32, 3.983f32), (0.2, 3.9), (1.1, 2.6), (2.5, 0.1)];
+    for (n, k) in metals {
+        for i in 0..=100 {
+            let c = i as f32 / 100.0;
+            let f = fresnel_complex(c, n, k) as f64;
+            let r = conductor_f64(c as f64, n as f64, k as f64);
+            assert!((f - r).abs() < 1e-5, "cos {c} n {n} k {k}: {f} vs {r}");
+        }
+    }
+    for i in 1..=100 {
+        let c = i as f32 / 100.0;
+        assert!((fresnel_complex(c, 1.5, 0.0) - fresnel_dielectric(c, 1.5)).abs() < 1e-5);
+    }
+    assert!((fresnel_complex(0.0, 0.2, 3.9) - 1.0).abs() < 1e-6);
+}
+
+#[test]
+fn schlick_interpolates_between_f0_and_f90() {
+    let f0 = Vec3::new(0.04, 0.5, 1.0);
+    assert_eq!(fresnel_schlick(1.0, f0, Vec3::ONE), f0);
+    assert_eq!(fresnel_schlick(0.0, f0, Vec3::ONE), Vec3::ONE);
+    assert_eq!(fresnel_schlick(-3.0, f0, Vec3::splat(0.5)), Vec3::splat(0.5));
+    let m = 0.5f32.powi(5);
+    assert!((fresnel_schlick(0.5, f0, Vec3::ONE) - (f0 + (Vec3::ONE - f0) * m)).length() < 1e-7);
+}
+
+#[test]
+fn params_round_trip_and_evaluate_like_the_enum() {
+    let all = [
+        Fresnel::One,
+        Fresnel::Schlick { f0: Vec3::new(0.9, 0.6, 0.3) },
+        Fresnel::SchlickF90 { f0: Vec3::splat(0.04), f90: Vec3::splat(0.7) },
+        Fresnel::Conductor { eta: Vec3::new(0.2, 0.9, 1.1), k: Vec3::new(3.9, 2.4, 2.2) },
+        Fresnel::Dielectric { eta: 1.5 },
+    ];
+    for f in all {
+        assert_eq!(FresnelParams::from(f).to_fresnel(), f);
+        assert_eq!(core::mem::size_of::<FresnelParams>(), 48);
+        for c in [-1.0f32, 0.0, 0.3, 1.0, 2.0, f32::NAN, f32::INFINITY] {
+            let v = f.eval(c);
+            assert!(v.cmpge(Vec3::ZERO).all() && v.cmple(Vec3::ONE).all(), "{f:?} {c} -> {v}");
+        }
+    }
+    let garbage = FresnelParams { kind: 99, eta: f32::NAN, pad: [0; 2], a: [f32::NAN; 4], b: [f32::INFINITY; 4] };
+    assert_eq!(garbage.eval(0.5), Vec3::ONE);
+    let nan = FresnelParams::from(Fresnel::Conductor { eta: Vec3::NAN, k: Vec3::NAN });
+    assert!(nan.eval(0.5).is_finite());
+}

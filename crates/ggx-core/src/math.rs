@@ -1,0 +1,117 @@
+//! Scalar helpers shared by every module: square roots that cannot produce NaN, a
+//! vectorizable `sin`/`cos` of `2 pi u`, and input sanitizers.
+//!
+//! With the `std` feature the square root is the hardware instruction from std; without
+//! it `libm` provides the same correctly rounded result, so both builds agree bit for bit.
+
+use core::f32::consts::TAU;
+use glam::{Vec2, Vec3};
+
+/// The largest `f32` below one: `1 - 2^-24`.
+pub const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
+
+/// Square root, correctly rounded (IEEE 754).
+#[inline(always)]
+pub fn sqrt(x: f32) -> f32 {
+    #[cfg(feature = "std")]
+    {
+        x.sqrt()
+    }
+    #[cfg(not(feature = "std"))]
+    {
+        libm::sqrtf(x)
+    }
+}
+
+/// `sqrt(max(x, 0))`: never NaN for a non-NaN input, and 0 for NaN.
+#[inline(always)]
+pub fn safe_sqrt(x: f32) -> f32 {
+    sqrt(x.max(0.0))
+}
+
+/// `x` if it is finite, else 0.
+#[inline(always)]
+pub fn finite_or_zero(x: f32) -> f32 {
+    if x.is_finite() { x } else { 0.0 }
+}
+
+/// Clamps a random number into `[0, 1 - 2^-24]`; NaN becomes 0.
+#[inline(always)]
+pub fn sanitize_u(u: f32) -> f32 {
+    // f32::max returns the non-NaN operand, so NaN maps to 0.
+    u.max(0.0).min(ONE_MINUS_EPSILON)
+}
+
+/// [`sanitize_u`] on both components.
+#[inline(always)]
+pub fn sanitize_u2(u: Vec2) -> Vec2 {
+    Vec2::new(sanitize_u(u.x), sanitize_u(u.y))
+}
+
+/// Unit vector along `v`, or zero when `v` is zero, subnormal, infinite or NaN.
+///
+/// Idempotent: a vector already unit to within a few ulps (`|len^2 - 1| <= 2e-6`) is returned
+/// unchanged, so re-normalizing a direction that `sample` returned cannot move it (which
+/// matters where the half vector `wo + wi` cancels at grazing angles).
+#[inline(always)]
+pub fn normalize_or_zero(v: Vec3) -> Vec3 {
+    let len2 = v.length_squared();
+    if (len2 - 1.0).abs() <= 2e-6 {
+        v
+    } else if len2 > 1e-30 && len2.is_finite() {
+        v * (1.0 / sqrt(len2))
+    } else {
+        Vec3::ZERO
+    }
+}
+
+/// `(sin 2 pi u, cos 2 pi u)` for `u` in `[0, 1]`: quadrant reduction, then Taylor polynomials
+/// of degree 9 and 8 on `[-pi/4, pi/4]` (absolute error below 2e-7, branch-free).
+#[inline(always)]
+pub fn sincos_2pi(u: f32) -> (f32, f32) {
+    // Nearest quarter turn; the cast saturates, so no input can panic.
+    let q = (u * 4.0 + 0.5) as i32;
+    let r = u - q as f32 * 0.25; // exact (Sterbenz), in [-1/8, 1/8]
+    let x = r * TAU;
+    let x2 = x * x;
+    let s = x * (1.0 + x2 * (-1.0 / 6.0 + x2 * (1.0 / 120.0 + x2 * (-1.0 / 5040.0 + x2 * (1.0 / 362_880.0)))));
+    let c = 1.0 + x2 * (-0.5 + x2 * (1.0 / 24.0 + x2 * (-1.0 / 720.0 + x2 * (1.0 / 40_320.0))));
+    let quadrant = q & 3;
+    let (a, b) = if quadrant & 1 != 0 { (c, s) } else { (s, c) };
+    let sin = if quadrant & 2 != 0 { -a } else { a };
+    let cos = if (quadrant + 1) & 2 != 0 { -b } else { b };
+    (sin, cos)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sincos_matches_f64_everywhere_on_the_unit_interval() {
+        let mut worst = 0.0f64;
+        for i in 0..=1_000_000u32 {
+            let u = i as f32 / 1_000_000.0;
+            let (s, c) = sincos_2pi(u);
+            let a = core::f64::consts::TAU * u as f64;
+            worst = worst.max((s as f64 - a.sin()).abs()).max((c as f64 - a.cos()).abs());
+        }
+        assert!(worst < 2e-7, "worst abs error {worst}");
+        let (s, c) = sincos_2pi(ONE_MINUS_EPSILON);
+        assert!(s <= 0.0 && s > -1e-6 && c == 1.0);
+    }
+
+    #[test]
+    fn sanitizers_clamp_every_special_value() {
+        for u in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, -0.0, 1.0, 2.0, -1e-45] {
+            let s = sanitize_u(u);
+            assert!((0.0..1.0).contains(&s), "{u} -> {s}");
+        }
+        assert_eq!(sanitize_u(0.25), 0.25);
+        assert_eq!(safe_sqrt(-1.0), 0.0);
+        assert_eq!(safe_sqrt(f32::NAN), 0.0);
+        assert_eq!(normalize_or_zero(Vec3::new(f32::INFINITY, 0.0, 0.0)), Vec3::ZERO);
+        assert_eq!(normalize_or_zero(Vec3::new(1e-30, 0.0, 0.0)), Vec3::ZERO);
+        assert_eq!(normalize_or_zero(Vec3::new(0.0, 3.0, 4.0)), Vec3::new(0.0, 0.6, 0.8));
+    }
+}

@@ -1,0 +1,32 @@
+//! Sampling visible normals with spherical caps, Dupuy & Benyoub 2023, "Sampling Visible
+//! GGX Normals with Spherical Caps" (HPG 2023).
+
+use crate::TrowbridgeReitz;
+use crate::math::{normalize_or_zero, safe_sqrt, sanitize_u2, sincos_2pi};
+use glam::{Vec2, Vec3};
+
+impl TrowbridgeReitz {
+    /// Dupuy & Benyoub 2023 listing 3: in the stretched space, a uniform point `c` on the
+    /// spherical cap `z in [-vh.z, 1]` plus `vh` is a visible normal; unstretch.
+    /// Same density as [`Self::sample_wm_vndf`]. Returns zero when `wo.z <= 0`.
+    #[inline]
+    pub fn sample_wm_spherical_caps(&self, wo: Vec3, u: Vec2) -> Vec3 {
+        if !(wo.z > 0.0) {
+            return Vec3::ZERO;
+        }
+        let vh = normalize_or_zero(Vec3::new(self.alpha_x * wo.x, self.alpha_y * wo.y, wo.z));
+        self.sample_cap(vh, vh.z, u)
+    }
+
+    /// Uniform point on the cap `z in [-lower, 1]` of the unit sphere, offset by `vh` and
+    /// unstretched: shared by the spherical-cap and bounded samplers.
+    #[inline(always)]
+    pub(crate) fn sample_cap(&self, vh: Vec3, lower: f32, u: Vec2) -> Vec3 {
+        let u = sanitize_u2(u);
+        let (sin_phi, cos_phi) = sincos_2pi(u.x);
+        let z = (1.0 - u.y) * (1.0 + lower) - lower;
+        let sin_theta = safe_sqrt(1.0 - z * z);
+        let h = Vec3::new(sin_theta * cos_phi, sin_theta * sin_phi, z) + vh;
+        normalize_or_zero(Vec3::new(self.alpha_x * h.x, self.alpha_y * h.y, h.z.max(0.0)))
+    }
+}

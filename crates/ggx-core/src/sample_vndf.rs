@@ -1,0 +1,31 @@
+//! Sampling visible normals with Heitz 2018, "Sampling the GGX Distribution of Visible
+//! Normals" (JCGT 7(4)).
+
+use crate::TrowbridgeReitz;
+use crate::math::{normalize_or_zero, safe_sqrt, sanitize_u2, sincos_2pi};
+use glam::{Vec2, Vec3};
+
+impl TrowbridgeReitz {
+    /// Heitz 2018 listing 1: stretch `wo` to the alpha = 1 configuration, sample the projected
+    /// hemisphere as a warped disk, lift, unstretch. Density of `wm`: `D_wo(wm)`
+    /// ([`Self::d_visible`]). Returns zero when `wo.z <= 0`.
+    #[inline]
+    pub fn sample_wm_vndf(&self, wo: Vec3, u: Vec2) -> Vec3 {
+        if !(wo.z > 0.0) {
+            return Vec3::ZERO;
+        }
+        let u = sanitize_u2(u);
+        let vh = normalize_or_zero(Vec3::new(self.alpha_x * wo.x, self.alpha_y * wo.y, wo.z));
+        // Basis around vh; near normal incidence the rotation is irrelevant (pbrt-v4's 0.99999).
+        let t1 = if vh.z < 0.99999 { normalize_or_zero(Vec3::new(-vh.y, vh.x, 0.0)) } else { Vec3::X };
+        let t2 = vh.cross(t1);
+        // Uniform point on the unit disk (polar map), then warp to the projected hemisphere.
+        let r = safe_sqrt(u.x);
+        let (sin_phi, cos_phi) = sincos_2pi(u.y);
+        let p1 = r * cos_phi;
+        let s = 0.5 * (1.0 + vh.z);
+        let p2 = (1.0 - s) * safe_sqrt(1.0 - p1 * p1) + s * (r * sin_phi);
+        let nh = p1 * t1 + p2 * t2 + safe_sqrt(1.0 - p1 * p1 - p2 * p2) * vh;
+        normalize_or_zero(Vec3::new(self.alpha_x * nh.x, self.alpha_y * nh.y, nh.z.max(0.0)))
+    }
+}

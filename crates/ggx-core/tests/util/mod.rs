@@ -1,0 +1,64 @@
+//! Shared helpers of the ggx-core integration tests: the parameter grid of the issue,
+//! directions from angles, an f64 hemisphere quadrature and a small deterministic RNG.
+#![allow(dead_code)]
+
+use ggx_core::{Vec2, Vec3};
+use rand_core::{Rng, SeedableRng};
+
+/// Isotropic alphas of the test grid.
+pub const ALPHAS: [f32; 5] = [0.05, 0.1, 0.3, 0.7, 1.0];
+/// Incidence angles of the test grid, degrees.
+pub const INCIDENCES_DEG: [f32; 5] = [0.0, 30.0, 60.0, 80.0, 89.0];
+
+/// Every (alpha_x, alpha_y) of the grid: the isotropic ones plus two anisotropic pairs.
+pub fn alpha_pairs() -> Vec<(f32, f32)> {
+    let mut v: Vec<(f32, f32)> = ALPHAS.iter().map(|&a| (a, a)).collect();
+    v.push((0.05, 0.5));
+    v.push((0.5, 0.05));
+    v
+}
+
+/// Unit direction at polar angle `theta` (radians) and azimuth `phi`.
+pub fn dir(theta: f64, phi: f64) -> Vec3 {
+    Vec3::new((theta.sin() * phi.cos()) as f32, (theta.sin() * phi.sin()) as f32, theta.cos() as f32)
+}
+
+/// View direction for an incidence in degrees; the azimuth is off-axis (0.7 rad) so that
+/// anisotropic lobes are tested away from their symmetry planes.
+pub fn wo_at(incidence_deg: f32) -> Vec3 {
+    dir((incidence_deg as f64).to_radians(), 0.7)
+}
+
+/// Integral of `f(w)` over the upper hemisphere in f64, with nodes concentrated near the
+/// pole: `theta = (pi / 2) x^2`, midpoint rule in `x` (n_theta nodes) and `phi` (n_phi).
+pub fn hemisphere_integral(n_theta: usize, n_phi: usize, f: impl Fn(Vec3) -> f64) -> f64 {
+    let (pi, tau) = (std::f64::consts::PI, std::f64::consts::TAU);
+    let mut total = 0.0;
+    for i in 0..n_theta {
+        let x = (i as f64 + 0.5) / n_theta as f64;
+        let theta = 0.5 * pi * x * x;
+        let jac = pi * x / n_theta as f64 * theta.sin(); // dtheta/dx dx * sin(theta)
+        let mut row = 0.0;
+        for j in 0..n_phi {
+            let phi = (j as f64 + 0.5) / n_phi as f64 * tau;
+            row += f(dir(theta, phi));
+        }
+        total += row * jac * tau / n_phi as f64;
+    }
+    total
+}
+
+/// Deterministic uniform pairs in [0, 1)^2.
+pub struct Uniforms(rand_pcg::Pcg64);
+
+impl Uniforms {
+    /// Generator for a seed.
+    pub fn new(seed: u64) -> Self {
+        Self(rand_pcg::Pcg64::seed_from_u64(seed))
+    }
+    /// Next pair, 24-bit resolution like the sample sequences.
+    pub fn next(&mut self) -> Vec2 {
+        let mut f = || (self.0.next_u32() >> 8) as f32 * (1.0 / 16_777_216.0);
+        Vec2::new(f(), f())
+    }
+}
