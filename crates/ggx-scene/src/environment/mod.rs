@@ -1,0 +1,100 @@
+//! The environment: constant radiance or an importance-sampled equirectangular map.
+//!
+//! Convention (y up): a unit direction `d = (sin t cos p, cos t, sin t sin p)` has polar
+//! angle `t = acos(d.y)` measured from +y and azimuth `p = atan2(d.z, d.x)` in `[0, 2 pi)`;
+//! its map coordinates are `u = p / (2 pi)`, `v = t / pi`. Row 0 of a map is the top
+//! (v = 0, +y), column 0 starts at +x and u grows towards +z.
+
+mod build;
+mod load;
+mod map;
+mod procedural;
+
+use std::f32::consts::{FRAC_1_PI, PI, TAU};
+
+use glam::{Vec2, Vec3};
+
+pub use build::MAX_PROCEDURAL_WIDTH;
+pub(crate) use build::build;
+pub use load::{MAX_MAP_SIZE, load_image};
+pub use map::EnvMap;
+pub use procedural::{sky, studio};
+
+/// Radiance arriving from infinitely far away.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Environment {
+    /// The same radiance from every direction.
+    Constant(Vec3),
+    /// An equirectangular map.
+    Map(EnvMap),
+}
+
+impl Environment {
+    /// Radiance arriving along `-direction` (i.e. seen looking towards unit `direction`).
+    pub fn radiance(&self, direction: Vec3) -> Vec3 {
+        match self {
+            Self::Constant(l) => *l,
+            Self::Map(m) => m.radiance(direction),
+        }
+    }
+
+    /// Samples a unit direction from `u` in `[0, 1)^2`; returns it with its solid-angle pdf.
+    /// A constant environment is sampled uniformly (`pdf = 1 / (4 pi)`).
+    pub fn sample(&self, u: Vec2) -> (Vec3, f32) {
+        match self {
+            Self::Constant(_) => (uniform_sphere(u), 0.25 * FRAC_1_PI),
+            Self::Map(m) => m.sample(u),
+        }
+    }
+
+    /// Solid-angle density of [`Self::sample`] producing unit `direction`.
+    pub fn pdf(&self, direction: Vec3) -> f32 {
+        match self {
+            Self::Constant(_) => 0.25 * FRAC_1_PI,
+            Self::Map(m) => m.pdf(direction),
+        }
+    }
+}
+
+/// Uniform direction on the unit sphere: `z = 1 - 2 u.x`, `phi = 2 pi u.y` (Archimedes'
+/// hat-box theorem).
+pub fn uniform_sphere(u: Vec2) -> Vec3 {
+    let z = 1.0 - 2.0 * u.x;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let (s, c) = (TAU * u.y).sin_cos();
+    Vec3::new(r * c, r * s, z)
+}
+
+/// Equirectangular coordinates of unit `d`: `u = atan2(d.z, d.x) / (2 pi)` wrapped to
+/// `[0, 1)`, `v = acos(d.y) / pi`.
+pub fn direction_to_uv(d: Vec3) -> Vec2 {
+    let phi = d.z.atan2(d.x);
+    let u = if phi < 0.0 { phi / TAU + 1.0 } else { phi / TAU };
+    Vec2::new(if u >= 1.0 { 0.0 } else { u }, d.y.clamp(-1.0, 1.0).acos() * FRAC_1_PI)
+}
+
+/// Inverse of [`direction_to_uv`]: `d = (sin t cos p, cos t, sin t sin p)` with
+/// `p = 2 pi u`, `t = pi v`.
+pub fn uv_to_direction(uv: Vec2) -> Vec3 {
+    let (sin_t, cos_t) = (PI * uv.y).sin_cos();
+    let (sin_p, cos_p) = (TAU * uv.x).sin_cos();
+    Vec3::new(sin_t * cos_p, cos_t, sin_t * sin_p)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn uv_round_trip_and_axes() {
+        assert!((direction_to_uv(Vec3::Y) - Vec2::new(0.0, 0.0)).length() < 1e-6);
+        assert!((direction_to_uv(Vec3::X) - Vec2::new(0.0, 0.5)).length() < 1e-6);
+        assert!((direction_to_uv(Vec3::Z) - Vec2::new(0.25, 0.5)).length() < 1e-6);
+        assert!((direction_to_uv(-Vec3::Y).y - 1.0).abs() < 1e-6);
+        for i in 0..100 {
+            let uv = Vec2::new((i as f32 * 0.618_034).fract(), 0.01 + 0.98 * (i as f32 * 0.754_878).fract());
+            let back = direction_to_uv(uv_to_direction(uv));
+            assert!((back - uv).length() < 1e-4, "{uv} {back}");
+        }
+    }
+}

@@ -1,0 +1,38 @@
+//! Object-space triangle geometry for every shape type, and the affine shape transform.
+
+mod obj;
+mod primitives;
+mod sphere;
+mod transform;
+
+pub(crate) use obj::load_obj;
+pub use obj::parse_obj;
+pub use primitives::{cube, disk, rectangle};
+pub use sphere::icosphere;
+pub(crate) use transform::build_transform;
+
+use glam::Vec3;
+
+/// An indexed triangle mesh in object space.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Geometry {
+    /// Vertex positions.
+    pub positions: Vec<Vec3>,
+    /// Per-vertex shading normals, parallel to `positions`, when the shape has them.
+    pub normals: Option<Vec<Vec3>>,
+    /// Counter-clockwise triangles (the front face's normal is `(p1 - p0) x (p2 - p0)`).
+    pub indices: Vec<[u32; 3]>,
+}
+
+impl Geometry {
+    /// Total surface area.
+    pub fn area(&self) -> f32 {
+        self.indices
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| self.positions[i as usize]);
+                0.5 * (b - a).cross(c - a).length()
+            })
+            .sum()
+    }
+}

@@ -1,0 +1,120 @@
+//! Validation of `[materials.NAME]` tables into [`Material`]s.
+
+use glam::Vec3;
+use toml::Spanned;
+
+use crate::check::{Interval, span_of};
+use crate::error::{ErrorKind, SceneError, Source};
+use crate::material::{ConductorFresnel, Material};
+use crate::raw::{MaterialType, OneOrMany, RawMaterial};
+
+const UNIT: Interval = Interval::closed(0.0, 1.0);
+
+/// Validates one material table named `name`.
+pub(crate) fn build(src: Source<'_>, name: &str, raw: &RawMaterial) -> Result<Material, SceneError> {
+    let path = format!("materials.{name}");
+    let field = |key: &str| format!("{path}.{key}");
+    let kind = *raw.kind.get_ref();
+    let (type_name, allowed): (_, &[&str]) = match kind {
+        MaterialType::Diffuse => ("diffuse", &["albedo"]),
+        MaterialType::Conductor => ("conductor", &["roughness", "alpha", "eta", "k", "f0", "preset"]),
+        MaterialType::Plastic => ("plastic", &["roughness", "alpha", "ior", "albedo"]),
+        MaterialType::Emissive => ("emissive", &["radiance"]),
+    };
+    let present = [
+        ("albedo", span_of(&raw.albedo)),
+        ("roughness", span_of(&raw.roughness)),
+        ("alpha", span_of(&raw.alpha)),
+        ("eta", span_of(&raw.eta)),
+        ("k", span_of(&raw.k)),
+        ("f0", span_of(&raw.f0)),
+        ("preset", span_of(&raw.preset)),
+        ("ior", span_of(&raw.ior)),
+        ("radiance", span_of(&raw.radiance)),
+    ];
+    src.only_keys(&path, type_name, &present, allowed)?;
+    let missing = |what: &str| {
+        let msg = format!("type \"{type_name}\" needs {what}");
+        src.error(raw.kind.span(), &field("type"), ErrorKind::Conflict, msg)
+    };
+    let albedo = || {
+        let a = raw.albedo.as_ref().ok_or_else(|| missing("`albedo`"))?;
+        Ok::<_, SceneError>(Vec3::from(src.array(a, &field("albedo"), UNIT)?))
+    };
+    match kind {
+        MaterialType::Diffuse => Ok(Material::Diffuse { albedo: albedo()? }),
+        MaterialType::Conductor => {
+            let [alpha_x, alpha_y] = alpha(src, raw, &path)?.ok_or_else(|| missing("`roughness` or `alpha`"))?;
+            let fresnel =
+                conductor_fresnel(src, raw, &path)?.ok_or_else(|| missing("`eta` and `k`, `f0` or `preset`"))?;
+            Ok(Material::Conductor { alpha_x, alpha_y, fresnel })
+        }
+        MaterialType::Plastic => {
+            let [alpha_x, alpha_y] = alpha(src, raw, &path)?.ok_or_else(|| missing("`roughness` or `alpha`"))?;
+            if alpha_x != alpha_y {
+                let key = if raw.alpha.is_some() { "alpha" } else { "roughness" };
+                let span = raw.alpha.as_ref().or(raw.roughness.as_ref()).map_or(raw.kind.span(), Spanned::span);
+                let msg = "plastics are isotropic: give a single number";
+                return Err(src.error(span, &field(key), ErrorKind::Conflict, msg));
+            }
+            let ior = src.number_or(raw.ior.as_ref(), 1.5, &field("ior"), Interval::above(1.0))?;
+            Ok(Material::Plastic { alpha: alpha_x, ior, albedo: albedo()? })
+        }
+        MaterialType::Emissive => {
+            let r = raw.radiance.as_ref().ok_or_else(|| missing("`radiance`"))?;
+            let radiance = Vec3::from(src.array(r, &field("radiance"), Interval::at_least(0.0))?);
+            if radiance == Vec3::ZERO {
+                let msg = "must be positive in at least one channel (use a black diffuse material for a black surface)";
+                return Err(src.error(r.span(), &field("radiance"), ErrorKind::OutOfRange, msg));
+            }
+            Ok(Material::Emissive { radiance })
+        }
+    }
+}
+
+/// `[alpha_x, alpha_y]` from `alpha` or from `roughness` (`alpha = roughness^2`, Burley 2012);
+/// `None` when neither is given.
+fn alpha(src: Source<'_>, raw: &RawMaterial, path: &str) -> Result<Option<[f32; 2]>, SceneError> {
+    let check = |v: &Spanned<OneOrMany<2>>, key: &str| {
+        src.components(v.span(), v.get_ref().written(), &format!("{path}.{key}"), UNIT)?;
+        Ok::<_, SceneError>(v.get_ref().components())
+    };
+    match (&raw.roughness, &raw.alpha) {
+        (Some(_), Some(a)) => {
+            let msg = "give either `roughness` or `alpha`, not both";
+            Err(src.error(a.span(), &format!("{path}.alpha"), ErrorKind::Conflict, msg))
+        }
+        (Some(r), None) => Ok(Some(check(r, "roughness")?.map(|r| r * r))),
+        (None, Some(a)) => Ok(Some(check(a, "alpha")?)),
+        (None, None) => Ok(None),
+    }
+}
+
+/// The conductor's Fresnel term from exactly one of `eta` + `k`, `f0` or `preset`.
+fn conductor_fresnel(src: Source<'_>, raw: &RawMaterial, path: &str) -> Result<Option<ConductorFresnel>, SceneError> {
+    let eta_k = if raw.eta.is_some() { ("eta", span_of(&raw.eta)) } else { ("k", span_of(&raw.k)) };
+    let given = [eta_k, ("f0", span_of(&raw.f0)), ("preset", span_of(&raw.preset))];
+    if let Some((key, Some(span))) = given.iter().filter(|(_, s)| s.is_some()).nth(1) {
+        let msg = "give only one of `eta` + `k`, `f0` or `preset`";
+        return Err(src.error(span.clone(), &format!("{path}.{key}"), ErrorKind::Conflict, msg));
+    }
+    if let Some(p) = &raw.preset {
+        return Ok(Some(p.get_ref().fresnel()));
+    }
+    if let Some(f0) = &raw.f0 {
+        let f0 = src.array(f0, &format!("{path}.f0"), UNIT)?;
+        return Ok(Some(ConductorFresnel::Schlick { f0: f0.into() }));
+    }
+    match (&raw.eta, &raw.k) {
+        (None, None) => Ok(None),
+        (Some(eta), Some(k)) => Ok(Some(ConductorFresnel::Complex {
+            eta: src.array(eta, &format!("{path}.eta"), Interval::above(0.0))?.into(),
+            k: src.array(k, &format!("{path}.k"), Interval::at_least(0.0))?.into(),
+        })),
+        (Some(v), None) | (None, Some(v)) => {
+            let (key, other) = if raw.eta.is_some() { ("eta", "k") } else { ("k", "eta") };
+            let msg = format!("`{key}` needs `{other}` too");
+            Err(src.error(v.span(), &format!("{path}.{key}"), ErrorKind::Conflict, msg))
+        }
+    }
+}

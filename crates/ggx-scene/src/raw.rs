@@ -1,0 +1,213 @@
+//! The scene file as written: serde structures mirroring the TOML, every user-facing value
+//! wrapped in [`Spanned`] so that validation can point at it. Validation lives in the
+//! modules that own each part (camera, materials, shapes, environment).
+
+use std::collections::BTreeMap;
+use std::fmt;
+use std::marker::PhantomData;
+
+use serde::Deserialize;
+use serde::de::{self, Deserializer, SeqAccess, Visitor};
+use toml::Spanned;
+
+use crate::integrator::{BsdfStrategy, LightStrategy, SamplerKind};
+use crate::material::ConductorPreset;
+
+/// Shorthand for an optional spanned value.
+pub(crate) type Opt<T> = Option<Spanned<T>>;
+
+/// The whole scene file.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawScene {
+    pub camera: RawCamera,
+    pub integrator: Option<RawIntegrator>,
+    #[serde(default)]
+    pub materials: BTreeMap<String, RawMaterial>,
+    #[serde(default)]
+    pub shapes: Vec<RawShape>,
+    pub environment: Option<RawEnvironment>,
+}
+
+/// `[camera]`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawCamera {
+    pub position: Spanned<[f32; 3]>,
+    pub look_at: Spanned<[f32; 3]>,
+    pub up: Opt<[f32; 3]>,
+    pub fov_y: Opt<f32>,
+    pub resolution: Opt<[u32; 2]>,
+}
+
+/// `[integrator]`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawIntegrator {
+    pub spp: Opt<u32>,
+    pub max_depth: Opt<u32>,
+    pub russian_roulette: Opt<u32>,
+    pub time: Opt<f32>,
+    pub seed: Option<u64>,
+    pub sampler: Option<SamplerKind>,
+    pub bsdf_sampling: Option<BsdfStrategy>,
+    pub light_strategy: Option<LightStrategy>,
+}
+
+/// Material `type` strings.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub(crate) enum MaterialType {
+    Diffuse,
+    Conductor,
+    Plastic,
+    Emissive,
+}
+
+/// `[materials.NAME]`: one flat table, the keys allowed depend on `type`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawMaterial {
+    #[serde(rename = "type")]
+    pub kind: Spanned<MaterialType>,
+    pub albedo: Opt<[f32; 3]>,
+    pub roughness: Opt<OneOrMany<2>>,
+    pub alpha: Opt<OneOrMany<2>>,
+    pub eta: Opt<[f32; 3]>,
+    pub k: Opt<[f32; 3]>,
+    pub f0: Opt<[f32; 3]>,
+    pub preset: Opt<ConductorPreset>,
+    pub ior: Opt<f32>,
+    pub radiance: Opt<[f32; 3]>,
+}
+
+/// Shape `type` strings.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub(crate) enum ShapeType {
+    Sphere,
+    Rectangle,
+    Box,
+    Disk,
+    Mesh,
+}
+
+/// `[[shapes]]`: one flat table, the keys allowed depend on `type`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawShape {
+    #[serde(rename = "type")]
+    pub kind: Spanned<ShapeType>,
+    pub material: Spanned<String>,
+    pub center: Opt<[f32; 3]>,
+    pub radius: Opt<f32>,
+    pub subdivisions: Opt<u32>,
+    pub smooth: Opt<bool>,
+    pub segments: Opt<u32>,
+    pub file: Opt<String>,
+    pub transform: Option<RawTransform>,
+}
+
+/// `transform = { translate, rotate, scale }`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawTransform {
+    pub translate: Opt<[f32; 3]>,
+    pub rotate: Opt<[f32; 3]>,
+    pub scale: Opt<OneOrMany<3>>,
+}
+
+/// Environment `type` strings.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub(crate) enum EnvironmentType {
+    Constant,
+    Map,
+    Procedural,
+}
+
+/// Procedural environment presets.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub(crate) enum ProceduralPreset {
+    Sky,
+    Studio,
+}
+
+/// `[environment]`: one flat table, the keys allowed depend on `type`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawEnvironment {
+    #[serde(rename = "type")]
+    pub kind: Spanned<EnvironmentType>,
+    pub radiance: Opt<[f32; 3]>,
+    pub file: Opt<String>,
+    pub preset: Opt<ProceduralPreset>,
+    pub resolution: Opt<[u32; 2]>,
+    pub scale: Opt<f32>,
+    pub rotation: Opt<f32>,
+}
+
+/// A number, or an array of exactly `N` numbers (`alpha = 0.1` or `alpha = [0.1, 0.4]`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum OneOrMany<const N: usize> {
+    One(f32),
+    Many([f32; N]),
+}
+
+impl<const N: usize> OneOrMany<N> {
+    /// The numbers as written (one or `N`), for validation messages.
+    pub fn written(&self) -> &[f32] {
+        match self {
+            Self::One(x) => std::slice::from_ref(x),
+            Self::Many(v) => v,
+        }
+    }
+
+    /// All `N` components (a single number is repeated).
+    pub fn components(self) -> [f32; N] {
+        match self {
+            Self::One(x) => [x; N],
+            Self::Many(v) => v,
+        }
+    }
+}
+
+impl<'de, const N: usize> Deserialize<'de> for OneOrMany<N> {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        deserializer.deserialize_any(OneOrManyVisitor::<N>(PhantomData))
+    }
+}
+
+struct OneOrManyVisitor<const N: usize>(PhantomData<[f32; N]>);
+
+impl<'de, const N: usize> Visitor<'de> for OneOrManyVisitor<N> {
+    type Value = OneOrMany<N>;
+
+    fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "a number or an array of {N} numbers")
+    }
+
+    fn visit_f64<E: de::Error>(self, v: f64) -> Result<Self::Value, E> {
+        Ok(OneOrMany::One(v as f32))
+    }
+
+    fn visit_i64<E: de::Error>(self, v: i64) -> Result<Self::Value, E> {
+        Ok(OneOrMany::One(v as f32))
+    }
+
+    fn visit_u64<E: de::Error>(self, v: u64) -> Result<Self::Value, E> {
+        Ok(OneOrMany::One(v as f32))
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+        let mut out = [0.0; N];
+        for (i, slot) in out.iter_mut().enumerate() {
+            *slot = seq.next_element()?.ok_or_else(|| de::Error::invalid_length(i, &self))?;
+        }
+        if seq.next_element::<de::IgnoredAny>()?.is_some() {
+            return Err(de::Error::invalid_length(N + 1, &self));
+        }
+        Ok(OneOrMany::Many(out))
+    }
+}

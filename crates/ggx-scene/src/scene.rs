@@ -1,0 +1,61 @@
+//! [`Scene`]: the validated, renderer-ready scene.
+
+use std::path::PathBuf;
+
+use crate::camera::Camera;
+use crate::environment::Environment;
+use crate::features::SceneFeatures;
+use crate::integrator::IntegratorSettings;
+use crate::lights::AreaLights;
+use crate::material::Material;
+use crate::mesh::TriangleMesh;
+use crate::stats::SceneStats;
+
+/// A loaded and validated scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    /// The camera.
+    pub camera: Camera,
+    /// Sampling settings.
+    pub integrator: IntegratorSettings,
+    /// Materials, indexed by [`crate::Triangle::material`] (sorted by name).
+    pub materials: Vec<Material>,
+    /// Names of `materials`, same order.
+    pub material_names: Vec<String>,
+    /// All shapes as world-space triangles.
+    pub mesh: TriangleMesh,
+    /// Emissive shapes and their sampling distribution.
+    pub lights: AreaLights,
+    /// Light from infinitely far away, if any.
+    pub environment: Option<Environment>,
+    /// What the scene uses.
+    pub features: SceneFeatures,
+    /// Number of `[[shapes]]` entries.
+    pub shape_count: usize,
+    /// The scene file as given to the loader.
+    pub source: PathBuf,
+}
+
+impl Scene {
+    /// Counts for `ggx info`.
+    pub fn stats(&self) -> SceneStats {
+        SceneStats {
+            shapes: self.shape_count,
+            triangles: self.mesh.triangles.len(),
+            smooth_triangles: self.mesh.shading_normals.len(),
+            materials: self.materials.len(),
+            lights: self.lights.lights.len(),
+            emitters: self.lights.emitters.len(),
+            light_area: self.lights.total_area(),
+            env_map: match &self.environment {
+                Some(Environment::Map(m)) => Some([m.width, m.height]),
+                _ => None,
+            },
+        }
+    }
+
+    /// Index of the material called `name`.
+    pub fn material_index(&self, name: &str) -> Option<usize> {
+        self.material_names.iter().position(|n| n == name)
+    }
+}

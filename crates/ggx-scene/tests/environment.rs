@@ -1,0 +1,238 @@
+//! Environment maps: the importance-sampling pdf integrates to one, agrees with the sampled
+//! pdf, passes a chi-square test, and `.hdr` / `.exr` files load texel-exactly.
+
+use std::f32::consts::PI;
+use std::path::Path;
+
+use ggx_scene::{EnvMap, Environment, direction_to_uv, luminance, parse_scene, sky, studio, uv_to_direction};
+use glam::{Quat, Vec2, Vec3};
+
+/// A small deterministic generator (64-bit LCG, top 24 bits) for reproducible tests.
+struct Lcg(u64);
+
+impl Lcg {
+    fn next(&mut self) -> f32 {
+        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (self.0 >> 40) as f32 / (1u64 << 24) as f32
+    }
+    fn vec2(&mut self) -> Vec2 {
+        Vec2::new(self.next(), self.next())
+    }
+}
+
+/// A 32 x 16 map of random texels spanning three orders of magnitude, some black.
+fn random_map(rotation_degrees: f32) -> EnvMap {
+    let mut rng = Lcg(7);
+    let texels = (0..32 * 16)
+        .map(|i| {
+            if i % 7 == 3 {
+                return [0.0, 0.0, 0.0, 1.0];
+            }
+            let s = 10f32.powf(3.0 * rng.next() - 1.0);
+            [s * rng.next(), s * rng.next(), s * rng.next(), 1.0]
+        })
+        .collect();
+    EnvMap::new(32, 16, texels, 2.0, rotation_degrees).unwrap()
+}
+
+/// Map-space texel of a world direction.
+fn cell(map: &EnvMap, world: Vec3) -> (usize, usize) {
+    let uv = direction_to_uv(Quat::from_rotation_y(-map.rotation) * world);
+    let col = ((uv.x * map.width as f32) as usize).min(map.width as usize - 1);
+    let row = ((uv.y * map.height as f32) as usize).min(map.height as usize - 1);
+    (col, row)
+}
+
+#[test]
+fn pdf_integrates_to_one() {
+    for rotation in [0.0, 40.0] {
+        let map = random_map(rotation);
+        // Midpoint rule over (u, v) with d(omega) = 2 pi^2 sin(pi v) du dv.
+        let (nu, nv) = (1024, 512);
+        let mut sum = 0.0f64;
+        for j in 0..nv {
+            let v = (j as f32 + 0.5) / nv as f32;
+            for i in 0..nu {
+                let d = uv_to_direction(Vec2::new((i as f32 + 0.5) / nu as f32, v));
+                sum += f64::from(map.pdf(d) * 2.0 * PI * PI * (PI * v).sin());
+            }
+        }
+        let integral = sum / f64::from(nu * nv);
+        assert!((integral - 1.0).abs() < 2e-3, "rotation {rotation}: {integral}");
+    }
+}
+
+#[test]
+fn sampled_pdf_matches_pdf() {
+    for rotation in [0.0, 40.0] {
+        let map = random_map(rotation);
+        let mut rng = Lcg(11);
+        let n = 100_000;
+        let mut mismatches = 0;
+        for _ in 0..n {
+            let (d, pdf) = map.sample(rng.vec2());
+            assert!((d.length() - 1.0).abs() < 1e-4);
+            assert!(pdf > 0.0 && pdf.is_finite());
+            assert!(map.radiance(d) != Vec3::ZERO, "sampled a black texel");
+            if (map.pdf(d) - pdf).abs() > 1e-3 * pdf {
+                mismatches += 1;
+            }
+        }
+        // Only directions within float rounding of a texel border may disagree.
+        assert!(mismatches < n / 1000, "{mismatches} mismatches");
+    }
+}
+
+#[test]
+fn chi_square_of_sampled_texels() {
+    let map = random_map(40.0);
+    let (w, h) = (map.width as usize, map.height as usize);
+    let n = 200_000;
+    let mut counts = vec![0u32; w * h];
+    let mut rng = Lcg(3);
+    for _ in 0..n {
+        let (d, _) = map.sample(rng.vec2());
+        let (col, row) = cell(&map, d);
+        counts[row * w + col] += 1;
+    }
+    // Expected counts n * P(cell), P(cell) = cell pdf * cell area in [0, 1)^2; cells with
+    // fewer than 5 expected samples are pooled.
+    let (mut chi2, mut dof, mut pooled_obs, mut pooled_exp) = (0.0f64, 0usize, 0.0f64, 0.0f64);
+    for row in 0..h {
+        for col in 0..w {
+            let expected = f64::from(n) * f64::from(map.distribution.cell_pdf(col, row)) / (w * h) as f64;
+            let observed = f64::from(counts[row * w + col]);
+            if expected < 5.0 {
+                pooled_obs += observed;
+                pooled_exp += expected;
+            } else {
+                chi2 += (observed - expected).powi(2) / expected;
+                dof += 1;
+            }
+        }
+    }
+    if pooled_exp > 0.0 {
+        chi2 += (pooled_obs - pooled_exp).powi(2) / pooled_exp.max(1.0);
+        dof += 1;
+    }
+    // Mean dof - 1, standard deviation sqrt(2 dof): allow six standard deviations.
+    let limit = dof as f64 + 6.0 * (2.0 * dof as f64).sqrt();
+    assert!(chi2 < limit, "chi2 {chi2} over {dof} cells (limit {limit})");
+}
+
+#[test]
+fn importance_sampled_integral_matches_exact() {
+    let map = random_map(0.0);
+    // Exact: sum of texel luminance times texel solid angle 2 pi / w (cos t0 - cos t1).
+    let (w, h) = (map.width as usize, map.height as usize);
+    let mut exact = 0.0f64;
+    for row in 0..h {
+        let (t0, t1) = (PI * row as f32 / h as f32, PI * (row + 1) as f32 / h as f32);
+        let solid_angle = 2.0 * PI / w as f32 * (t0.cos() - t1.cos());
+        for col in 0..w {
+            exact += f64::from(luminance(map.texel(col, row)) * solid_angle);
+        }
+    }
+    let mut rng = Lcg(5);
+    let n = 200_000;
+    let estimate: f64 = (0..n)
+        .map(|_| {
+            let (d, pdf) = map.sample(rng.vec2());
+            f64::from(luminance(map.radiance(d)) / pdf)
+        })
+        .sum::<f64>()
+        / f64::from(n);
+    assert!((estimate / exact - 1.0).abs() < 0.01, "estimate {estimate}, exact {exact}");
+}
+
+#[test]
+fn nearest_texel_lookup_and_rotation() {
+    let map = random_map(90.0);
+    for (row, col) in [(0, 0), (5, 17), (15, 31)] {
+        let uv = Vec2::new((col as f32 + 0.5) / 32.0, (row as f32 + 0.5) / 16.0);
+        let world = Quat::from_rotation_y(map.rotation) * uv_to_direction(uv);
+        assert_eq!(map.radiance(world), map.texel(col, row));
+        let t = map.texels[row * 32 + col];
+        assert_eq!(map.texel(col, row), 2.0 * Vec3::new(t[0], t[1], t[2]));
+    }
+}
+
+#[test]
+fn constant_environment_samples_uniformly() {
+    let env = Environment::Constant(Vec3::ONE);
+    let mut rng = Lcg(1);
+    let mut mean = Vec3::ZERO;
+    for _ in 0..10_000 {
+        let (d, pdf) = env.sample(rng.vec2());
+        assert!((d.length() - 1.0).abs() < 1e-5 && pdf == env.pdf(d) && env.radiance(d) == Vec3::ONE);
+        mean += d / 10_000.0;
+    }
+    assert!(mean.length() < 0.05, "{mean}");
+    assert!((env.pdf(Vec3::Y) * 4.0 * PI - 1.0).abs() < 1e-6);
+}
+
+#[test]
+fn procedural_maps_are_valid() {
+    for texels in [sky(64, 32), studio(64, 32)] {
+        assert_eq!(texels.len(), 64 * 32);
+        assert!(texels.iter().all(|t| t.iter().all(|c| c.is_finite() && *c >= 0.0)));
+        let max = texels.iter().map(|t| t[1]).fold(0.0, f32::max);
+        let min = texels.iter().map(|t| t[1]).fold(f32::MAX, f32::min);
+        assert!(max > 5.0 && min > 0.0, "{min} {max}");
+    }
+    // The sky's sun (35 degrees up, azimuth 60 degrees) is the brightest texel.
+    let map = EnvMap::new(512, 256, sky(512, 256), 1.0, 0.0).unwrap();
+    let sun = Vec3::new(
+        35f32.to_radians().cos() * 60f32.to_radians().cos(),
+        35f32.to_radians().sin(),
+        35f32.to_radians().cos() * 60f32.to_radians().sin(),
+    );
+    assert!(luminance(map.radiance(sun)) > 100.0);
+    assert!(luminance(map.radiance(-Vec3::Y)) < 0.2);
+}
+
+fn scene_with_map(dir: &Path, file: &str) -> EnvMap {
+    let text = format!(
+        "[camera]\nposition = [0, 0, 1]\nlook_at = [0, 0, 0]\n\n[environment]\ntype = \"map\"\nfile = \"{file}\"\n"
+    );
+    match parse_scene(&text, "map.toml", dir).unwrap_or_else(|e| panic!("{e}")).environment {
+        Some(Environment::Map(m)) => m,
+        other => panic!("{other:?}"),
+    }
+}
+
+fn test_pixel(x: usize, y: usize) -> [f32; 3] {
+    [0.25 + x as f32, 0.5 * (y + 1) as f32, 4.0 / (x + y + 1) as f32]
+}
+
+#[test]
+fn exr_and_hdr_files_load_texel_exact() {
+    use image::ImageEncoder;
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("env_maps");
+    std::fs::create_dir_all(&dir).unwrap();
+    let (w, h) = (8usize, 4usize);
+    exr::prelude::write_rgba_file(dir.join("test.exr"), w, h, |x, y| {
+        let [r, g, b] = test_pixel(x, y);
+        (r, g, b, 1.0f32)
+    })
+    .unwrap();
+    let pixels: Vec<f32> = (0..w * h).flat_map(|i| test_pixel(i % w, i / w)).collect();
+    let file = std::io::BufWriter::new(std::fs::File::create(dir.join("test.hdr")).unwrap());
+    image::codecs::hdr::HdrEncoder::new(file)
+        .write_image(bytemuck::cast_slice(&pixels), w as u32, h as u32, image::ExtendedColorType::Rgb32F)
+        .unwrap();
+    for (file, tolerance) in [("test.exr", 0.0), ("test.hdr", 0.01)] {
+        let map = scene_with_map(&dir, file);
+        assert_eq!((map.width, map.height), (8, 4));
+        for y in 0..h {
+            for x in 0..w {
+                let expected = Vec3::from(test_pixel(x, y));
+                let got = map.texel(x, y);
+                assert!(
+                    (got - expected).abs().max_element() <= tolerance * expected.max_element(),
+                    "{file} ({x}, {y}): {got} vs {expected}"
+                );
+            }
+        }
+    }
+}
