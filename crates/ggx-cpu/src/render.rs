@@ -1,0 +1,171 @@
+//! The render loop: passes of whole samples per pixel over 16x16 tiles on a rayon pool.
+//!
+//! Determinism: sample `s` of pixel `i` always uses `SampleStream::new(kind, seed, i, s)`,
+//! each pixel's samples are summed in index order inside one tile, and the pass schedule
+//! (1, 1, 2, 4, 8, 16, 16, ... samples) does not depend on timing. The image therefore
+//! depends only on the scene and its seed, never on the thread count or tile order. Only a
+//! time budget, which ends the render after however many passes fit, depends on the clock.
+
+use crate::integrator::{Counters, trace};
+use crate::scene_data::SceneData;
+use ggx_core::{SampleStream, SequenceKind};
+use ggx_film::Film;
+use ggx_scene::SceneFeatures;
+use glam::{Vec2, Vec3};
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+/// Tile edge in pixels.
+const TILE: u32 = 16;
+/// Largest number of samples per pixel in one pass.
+const MAX_PASS_SPP: u32 = 16;
+
+/// Per-pixel sampling set-up shared by all tiles of a render.
+#[derive(Clone, Copy)]
+pub struct Sampling {
+    /// Sequence kind.
+    pub kind: SequenceKind,
+    /// 32-bit seed folded from the scene's 64-bit seed.
+    pub seed: u32,
+}
+
+/// One tile of one pass: per-pixel radiance sums, or `None` if the render was cancelled.
+type TileFn = fn(&SceneData, Sampling, [u32; 4], (u32, u32), &AtomicBool, &AtomicU64) -> Option<Vec<Vec3>>;
+
+/// Renders samples `[s0, s1)` of every pixel of the tile `[x0, y0, x1, y1)`.
+fn render_tile<const AREA: bool, const ENV: bool, const PLASTIC: bool>(
+    scene: &SceneData,
+    sampling: Sampling,
+    [x0, y0, x1, y1]: [u32; 4],
+    (s0, s1): (u32, u32),
+    cancel: &AtomicBool,
+    rays: &AtomicU64,
+) -> Option<Vec<Vec3>> {
+    if cancel.load(Ordering::Relaxed) {
+        return None;
+    }
+    let width = scene.camera.resolution[0];
+    let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
+    let mut counters = Counters::default();
+    for y in y0..y1 {
+        for x in x0..x1 {
+            let pixel = y * width + x;
+            let mut sum = Vec3::ZERO;
+            for s in s0..s1 {
+                let mut stream = SampleStream::new(sampling.kind, sampling.seed, pixel, s);
+                let jitter = stream.next_2d();
+                let (origin, dir) = scene.camera.generate_ray(Vec2::new(x as f32, y as f32) + jitter);
+                sum += trace::<AREA, ENV, PLASTIC>(scene, origin, dir, &mut stream, &mut counters);
+            }
+            out.push(sum);
+        }
+    }
+    rays.fetch_add(counters.rays + counters.shadow_rays, Ordering::Relaxed);
+    Some(out)
+}
+
+/// The kernel variant for a scene: only the features it uses, or everything when
+/// `specialize` is false.
+pub fn select_kernel(features: &SceneFeatures, specialize: bool) -> (TileFn, &'static str) {
+    let area = !specialize || features.area_lights;
+    let env = !specialize || features.env_map || features.constant_env;
+    let plastic = !specialize || features.plastics;
+    match (area, env, plastic) {
+        (true, true, true) => (render_tile::<true, true, true>, "area+env+plastic"),
+        (true, true, false) => (render_tile::<true, true, false>, "area+env"),
+        (true, false, true) => (render_tile::<true, false, true>, "area+plastic"),
+        (true, false, false) => (render_tile::<true, false, false>, "area"),
+        (false, true, true) => (render_tile::<false, true, true>, "env+plastic"),
+        (false, true, false) => (render_tile::<false, true, false>, "env"),
+        (false, false, true) => (render_tile::<false, false, true>, "plastic"),
+        (false, false, false) => (render_tile::<false, false, false>, "none"),
+    }
+}
+
+/// Samples per pixel of pass `k` (1, 1, 2, 4, 8, 16, 16, ...).
+pub fn pass_spp(k: u32) -> u32 {
+    if k == 0 { 1 } else { (1u32 << (k - 1).min(4)).min(MAX_PASS_SPP) }
+}
+
+/// What one call of [`run`] produced.
+pub struct Outcome {
+    /// The accumulated image.
+    pub film: Film,
+    /// Whether the cancel flag stopped the render early.
+    pub interrupted: bool,
+    /// Rays traced (closest-hit and shadow).
+    pub rays: u64,
+    /// Wall time.
+    pub elapsed: Duration,
+}
+
+/// Renders up to `spp` samples per pixel, in passes, stopping early on `cancel` or when the
+/// time budget would be exceeded. `progress(spp_done, elapsed)` runs after each pass.
+#[allow(clippy::too_many_arguments)]
+pub fn run(
+    scene: &SceneData,
+    tile_fn: TileFn,
+    sampling: Sampling,
+    spp: u32,
+    budget: Option<Duration>,
+    pool: &rayon::ThreadPool,
+    cancel: &AtomicBool,
+    progress: &dyn Fn(u32, Duration),
+) -> Outcome {
+    let start = Instant::now();
+    let [width, height] = scene.camera.resolution;
+    let mut film = Film::new(width, height);
+    let tiles: Vec<[u32; 4]> = (0..height.div_ceil(TILE))
+        .flat_map(|ty| {
+            (0..width.div_ceil(TILE))
+                .map(move |tx| [tx * TILE, ty * TILE, ((tx + 1) * TILE).min(width), ((ty + 1) * TILE).min(height)])
+        })
+        .collect();
+    let rays = AtomicU64::new(0);
+    let mut pass_buffer = vec![Vec3::ZERO; (width * height) as usize];
+    let (mut done, mut k, mut interrupted) = (0u32, 0u32, false);
+    while done < spp {
+        let mut n = pass_spp(k).min(spp - done);
+        if let Some(budget) = budget {
+            let elapsed = start.elapsed();
+            if done > 0 {
+                // Fit the next pass into the remaining time at the measured rate.
+                let per_spp = elapsed.as_secs_f64() / done as f64;
+                let left = budget.as_secs_f64() - elapsed.as_secs_f64();
+                let fit = (left / per_spp).floor();
+                if fit < 1.0 {
+                    break;
+                }
+                n = n.min(fit as u32);
+            }
+        }
+        let results: Vec<Option<Vec<Vec3>>> = pool.install(|| {
+            tiles.par_iter().map(|&t| tile_fn(scene, sampling, t, (done, done + n), cancel, &rays)).collect()
+        });
+        if results.iter().any(Option::is_none) {
+            interrupted = true;
+            break;
+        }
+        for (tile, sums) in tiles.iter().zip(results.into_iter().flatten()) {
+            let [x0, y0, x1, _] = *tile;
+            let w = (x1 - x0) as usize;
+            for (row, chunk) in sums.chunks(w).enumerate() {
+                let start = ((y0 as usize + row) * width as usize) + x0 as usize;
+                pass_buffer[start..start + w].copy_from_slice(chunk);
+            }
+        }
+        // Lengths match by construction; an error here would be a bug in the tiling.
+        if film.add_pass(&pass_buffer, n).is_err() {
+            break;
+        }
+        done += n;
+        k += 1;
+        progress(done, start.elapsed());
+        if cancel.load(Ordering::Relaxed) {
+            interrupted = done < spp;
+            break;
+        }
+    }
+    Outcome { film, interrupted, rays: rays.load(Ordering::Relaxed), elapsed: start.elapsed() }
+}

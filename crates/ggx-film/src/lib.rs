@@ -1,0 +1,40 @@
+//! Film and image output shared by the ggx CPU and GPU path tracers.
+//!
+//! * [`Film`]: per-pixel sums of radiance samples in `f64`, filled one whole pass at a time
+//!   ([`Film::add_pass`]), read back as the mean radiance ([`Film::mean`]).
+//! * [`ToneMap`], [`OutputOptions`], [`srgb_encode`] and [`tonemap_to_srgb8`]: exposure, tone
+//!   mapping (fitted ACES, luminance Reinhard, clamp) and sRGB encoding to 8 bits. Every `f32`
+//!   is accepted: NaN and negative values become black, `+inf` becomes full intensity.
+//! * [`write_image`]: linear `f32` OpenEXR (`.exr`) or tone-mapped sRGB PNG (`.png`), written
+//!   to a temporary file in the target directory and renamed over the target, so a crash
+//!   never leaves a half-written image. [`read_exr`] reads an EXR back.
+//! * [`compare`]: RMSE, relative MSE and relative-error statistics between two images, for
+//!   tests and the cross-backend diff tool.
+//!
+//! Pixels are linear RGB, row-major with the top row first. Nothing here panics on user data:
+//! mismatched sizes, bad paths and I/O failures are returned as [`FilmError`] or
+//! [`OutputError`].
+#![deny(missing_docs)]
+
+mod atomic;
+mod display;
+mod error;
+mod exr_io;
+mod film;
+mod metrics;
+mod output;
+mod png_io;
+mod srgb;
+mod tonemap;
+
+pub use display::{OutputOptions, tonemap_to_srgb8};
+pub use error::{FilmError, OutputError, ParseToneMapError};
+pub use exr_io::read_exr;
+pub use film::Film;
+pub use metrics::{ImageMetrics, REL_EPSILON, compare};
+pub use output::{SUPPORTED_EXTENSIONS, write_image};
+pub use srgb::srgb_encode;
+pub use tonemap::ToneMap;
+
+/// Re-exported so users of the public API need not depend on glam themselves.
+pub use glam::Vec3;
