@@ -1,0 +1,211 @@
+//! The command line: `ggx render` and `ggx info`, parsed and range-checked by clap (whose
+//! usage errors exit with code 2).
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use ggx_scene::{MAX_RESOLUTION, MAX_SPP};
+
+const EXAMPLES: &str = "\
+Examples:
+  ggx render scenes/cornell.toml -o cornell.png
+  ggx render scenes/cornell.toml -o cornell.exr --spp 4096 --time 60
+  ggx render scenes/furnace.toml -o furnace.png --width 512 --tonemap clamp
+  ggx info scenes/bunny.toml
+
+Exit codes: 0 success, 1 error, 2 usage error, 130 interrupted (the partial image is written).";
+
+const RENDER_EXAMPLES: &str = "\
+Examples:
+  ggx render scenes/cornell.toml -o cornell.png
+  ggx render scenes/cornell.toml -o cornell.exr --spp 100000 --time 30
+  ggx render scenes/bunny.toml -o bunny.png --width 1280 --exposure 0.5 --threads 8
+  ggx render scenes/cornell.toml -o bench.exr --accel bvh2 --generic
+
+Ctrl-C (or SIGTERM) stops the render and still writes the image of the completed passes;
+press it again to quit at once. The exit code is then 130.";
+
+/// Renders GGX microfacet scenes with a CPU path tracer.
+#[derive(Debug, Parser)]
+#[command(name = "ggx", version, propagate_version = true, after_help = EXAMPLES)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Render a scene to an EXR or PNG image.
+    #[command(after_help = RENDER_EXAMPLES)]
+    Render(RenderArgs),
+    /// Print what a scene contains, its settings and BVH build times.
+    Info(InfoArgs),
+}
+
+/// `ggx render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Scene file (TOML).
+    pub scene: PathBuf,
+
+    /// Output image: .exr (linear HDR) or .png (tone-mapped sRGB), chosen by the extension.
+    #[arg(short, long, value_name = "OUT")]
+    pub output: PathBuf,
+
+    /// Samples per pixel [default: the scene's integrator.spp].
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SPP)))]
+    pub spp: Option<u32>,
+
+    /// Time budget: stop when it is used up, even with fewer than --spp samples per pixel
+    /// [default: the scene's integrator.time].
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    pub time: Option<f32>,
+
+    /// Seed of the sample sequence [default: the scene's integrator.seed].
+    #[arg(long, value_name = "S")]
+    pub seed: Option<u64>,
+
+    /// Image width; alone, the height follows the scene's aspect ratio.
+    #[arg(long, value_name = "W", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_RESOLUTION)))]
+    pub width: Option<u32>,
+
+    /// Image height; alone, the width follows the scene's aspect ratio.
+    #[arg(long, value_name = "H", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_RESOLUTION)))]
+    pub height: Option<u32>,
+
+    /// Worker threads; 0 uses every core.
+    #[arg(long, value_name = "N", default_value_t = 0, value_parser = clap::value_parser!(u16).range(0..=MAX_THREADS))]
+    pub threads: u16,
+
+    /// Where to render.
+    #[arg(long, value_enum, default_value_t = Backend::Cpu)]
+    pub backend: Backend,
+
+    /// Exposure in stops: the image is scaled by 2^STOPS before it is written.
+    #[arg(long, value_name = "STOPS", default_value_t = 0.0, allow_negative_numbers = true, value_parser = parse_exposure)]
+    pub exposure: f32,
+
+    /// Tone curve of PNG output (EXR output stays linear).
+    #[arg(long, value_enum, default_value_t = ToneMapArg::Aces)]
+    pub tonemap: ToneMapArg,
+
+    /// Ray-tracing acceleration structure.
+    #[arg(long, value_enum, default_value_t = AccelArg::Cwbvh)]
+    pub accel: AccelArg,
+
+    /// Use the generic kernel instead of the one specialized to the scene's features
+    /// (for benchmarking the specialization).
+    #[arg(long)]
+    pub generic: bool,
+}
+
+/// `ggx info`.
+#[derive(Debug, Args)]
+pub struct InfoArgs {
+    /// Scene file (TOML).
+    pub scene: PathBuf,
+}
+
+/// Largest accepted `--threads`.
+const MAX_THREADS: i64 = 4096;
+
+/// `--backend`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Backend {
+    /// The CPU path tracer.
+    Cpu,
+    /// The GPU path tracer (wgpu).
+    Wgpu,
+    /// wgpu when available, else the CPU.
+    Auto,
+}
+
+/// `--tonemap`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ToneMapArg {
+    /// ACES filmic curve (Narkowicz's fit).
+    Aces,
+    /// Reinhard, x / (1 + x).
+    Reinhard,
+    /// Clip to [0, 1].
+    Clamp,
+}
+
+/// `--accel`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum AccelArg {
+    /// Compressed wide BVH (8-wide).
+    Cwbvh,
+    /// Binary BVH.
+    Bvh2,
+}
+
+/// `--time`: a positive, finite number of seconds.
+fn parse_seconds(s: &str) -> Result<f32, String> {
+    match s.trim().parse::<f32>() {
+        Ok(t) if t > 0.0 && t.is_finite() => Ok(t),
+        Ok(_) => Err(format!("must be a positive, finite number of seconds, got {s}")),
+        Err(e) => Err(format!("not a number of seconds ({e})")),
+    }
+}
+
+/// `--exposure`: a finite number of stops small enough that 2^stops stays finite.
+fn parse_exposure(s: &str) -> Result<f32, String> {
+    match s.trim().parse::<f32>() {
+        Ok(e) if (-64.0..=64.0).contains(&e) => Ok(e),
+        Ok(_) => Err(format!("must be in [-64, 64] stops, got {s}")),
+        Err(e) => Err(format!("not a number of stops ({e})")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+
+    use super::*;
+
+    fn parse(args: &[&str]) -> Result<RenderArgs, clap::Error> {
+        let cli = Cli::try_parse_from(["ggx", "render", "s.toml", "-o", "x.png"].iter().chain(args))?;
+        match cli.command {
+            Command::Render(r) => Ok(r),
+            Command::Info(_) => unreachable!("parsed a render command"),
+        }
+    }
+
+    #[test]
+    fn command_is_well_formed() {
+        Cli::command().debug_assert();
+    }
+
+    #[test]
+    fn defaults_and_values() {
+        let r = parse(&[]).unwrap();
+        assert_eq!((r.spp, r.time, r.threads, r.backend), (None, None, 0, Backend::Cpu));
+        assert_eq!((r.exposure, r.tonemap, r.accel, r.generic), (0.0, ToneMapArg::Aces, AccelArg::Cwbvh, false));
+        let r = parse(&["--spp", "8", "--time", "1.5", "--exposure", "-2", "--accel", "bvh2", "--generic"]).unwrap();
+        assert_eq!((r.spp, r.time, r.exposure, r.accel, r.generic), (Some(8), Some(1.5), -2.0, AccelArg::Bvh2, true));
+    }
+
+    #[test]
+    fn rejects_out_of_range_values() {
+        for bad in [
+            &["--spp", "0"][..],
+            &["--spp", "-3"],
+            &["--time", "0"],
+            &["--time", "-1"],
+            &["--time", "nan"],
+            &["--time", "inf"],
+            &["--width", "0"],
+            &["--height", "99999"],
+            &["--exposure", "1e9"],
+            &["--threads", "100000"],
+            &["--backend", "vulkan"],
+            &["--tonemap", "filmic"],
+        ] {
+            let err = parse(bad).unwrap_err();
+            assert_eq!(err.exit_code(), 2, "{bad:?}");
+        }
+    }
+}

@@ -1,0 +1,145 @@
+//! `ggx info`: what a scene contains, its settings, and how long each BVH takes to build.
+
+use std::fmt::Write as _;
+use std::io::Write as _;
+
+use anyhow::{Context, Result};
+use clap::ValueEnum;
+use ggx_cpu::Renderer;
+use ggx_scene::{BsdfStrategy, Environment, LightStrategy, Material, SamplerKind, Scene};
+
+use crate::accel;
+use crate::args::{AccelArg, InfoArgs};
+
+/// Runs `ggx info`.
+pub fn run(args: &InfoArgs) -> Result<()> {
+    let scene = ggx_scene::load_scene(&args.scene)?;
+    let mut text = describe(&scene);
+    let times: Vec<String> = AccelArg::value_variants()
+        .iter()
+        .map(|&a| {
+            let renderer = Renderer::new(&scene, accel::kind(a));
+            format!("{} {}", accel::name(a), accel::format_build_time(renderer.build_time()))
+        })
+        .collect();
+    let _ = writeln!(text, "bvh build:  {}", times.join(", "));
+    std::io::stdout().lock().write_all(text.as_bytes()).context("cannot write to stdout")
+}
+
+/// Everything but the BVH build times, one `key: value` line each.
+fn describe(scene: &Scene) -> String {
+    let stats = scene.stats();
+    let mut s = String::new();
+    // Writing to a String cannot fail.
+    let mut line = |key: &str, value: String| {
+        let _ = writeln!(s, "{:<13}{value}", format!("{key}:"));
+    };
+    line("scene", scene.source.display().to_string());
+    line("shapes", stats.shapes.to_string());
+    line("triangles", format!("{} ({} with shading normals)", stats.triangles, stats.smooth_triangles));
+    let materials: Vec<String> =
+        scene.material_names.iter().zip(&scene.materials).map(|(n, m)| format!("{n} ({})", material_kind(m))).collect();
+    line("materials", format!("{}: {}", stats.materials, materials.join(", ")));
+    line("lights", format!("{} ({} emitting triangles, area {:.4})", stats.lights, stats.emitters, stats.light_area));
+    line("environment", environment(scene.environment.as_ref()));
+    line("features", scene.features.summary());
+    let i = &scene.integrator;
+    line(
+        "integrator",
+        format!(
+            "{} spp, time budget {}, max depth {}, russian roulette {}, seed {}",
+            i.spp,
+            i.time_budget.map_or("none".to_owned(), |t| format!("{t} s")),
+            i.max_depth,
+            if i.russian_roulette == 0 { "off".to_owned() } else { format!("from depth {}", i.russian_roulette) },
+            i.seed,
+        ),
+    );
+    line(
+        "sampling",
+        format!(
+            "sampler {}, bsdf sampling {}, light strategy {}",
+            sampler_name(i.sampler),
+            bsdf_name(i.bsdf_sampling),
+            light_name(i.light_strategy)
+        ),
+    );
+    let c = &scene.camera;
+    line(
+        "camera",
+        format!(
+            "{}x{}, fov_y {}°, position {}, forward {}",
+            c.resolution[0],
+            c.resolution[1],
+            c.fov_y_degrees,
+            vec3(c.position.to_array()),
+            vec3(c.forward.to_array())
+        ),
+    );
+    s
+}
+
+fn vec3([x, y, z]: [f32; 3]) -> String {
+    format!("[{x:.3}, {y:.3}, {z:.3}]")
+}
+
+fn environment(env: Option<&Environment>) -> String {
+    match env {
+        None => "none".to_owned(),
+        Some(Environment::Constant(l)) => format!("constant {}", vec3(l.to_array())),
+        Some(Environment::Map(m)) => format!("map {}x{}", m.width, m.height),
+    }
+}
+
+fn material_kind(m: &Material) -> &'static str {
+    match m {
+        Material::Diffuse { .. } => "diffuse",
+        Material::Conductor { .. } if m.is_anisotropic() => "anisotropic conductor",
+        Material::Conductor { .. } => "conductor",
+        Material::Plastic { .. } => "plastic",
+        Material::Emissive { .. } => "emissive",
+    }
+}
+
+fn sampler_name(s: SamplerKind) -> &'static str {
+    match s {
+        SamplerKind::Independent => "independent",
+        SamplerKind::Sobol => "sobol",
+    }
+}
+
+fn bsdf_name(b: BsdfStrategy) -> &'static str {
+    match b {
+        BsdfStrategy::Cosine => "cosine",
+        BsdfStrategy::Ndf => "ndf",
+        BsdfStrategy::Vndf => "vndf",
+        BsdfStrategy::SphericalCaps => "spherical-caps",
+        BsdfStrategy::Bounded => "bounded",
+    }
+}
+
+fn light_name(l: LightStrategy) -> &'static str {
+    match l {
+        LightStrategy::Bsdf => "bsdf",
+        LightStrategy::Nee => "nee",
+        LightStrategy::Mis => "mis",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn describes_a_scene() {
+        let text = "[camera]\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\nresolution = [64, 32]\n\
+                    [materials.w]\ntype = \"diffuse\"\nalbedo = [0.5, 0.5, 0.5]\n\
+                    [[shapes]]\ntype = \"rectangle\"\nmaterial = \"w\"\n";
+        let scene = ggx_scene::parse_scene(text, "t.toml", std::path::Path::new(".")).unwrap();
+        let d = describe(&scene);
+        assert!(d.contains("triangles:   2 (0 with shading normals)"), "{d}");
+        assert!(d.contains("materials:   1: w (diffuse)"), "{d}");
+        assert!(d.contains("camera:      64x32, fov_y 40°"), "{d}");
+        assert!(d.contains("sampler sobol, bsdf sampling vndf, light strategy mis"), "{d}");
+    }
+}

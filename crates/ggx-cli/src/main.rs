@@ -1,0 +1,37 @@
+//! `ggx`: renders ggx scenes on the CPU and describes them. `ggx --help` for usage.
+//!
+//! Exit codes: 0 success, 1 error, 2 usage error, 130 interrupted by Ctrl-C or SIGTERM
+//! (after writing the image rendered so far).
+
+mod accel;
+mod args;
+mod backend;
+mod exit;
+mod info_cmd;
+mod interrupt;
+mod output;
+mod overrides;
+mod progress;
+mod render_cmd;
+
+use std::process::ExitCode;
+
+use clap::Parser;
+
+use crate::args::{Cli, Command};
+use crate::exit::Outcome;
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Command::Render(args) => render_cmd::run(args),
+        Command::Info(args) => info_cmd::run(args).map(|()| Outcome::Done),
+    };
+    match result {
+        Ok(outcome) => outcome.exit_code(),
+        Err(err) => {
+            eprintln!("error: {}", exit::message(&err));
+            exit::error_code(&err)
+        }
+    }
+}

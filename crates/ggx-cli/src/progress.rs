@@ -1,0 +1,128 @@
+//! The render progress bar on stderr: spp done of the target, camera samples per second,
+//! ETA, and elapsed time against the time budget when there is one. Hidden when stderr is
+//! not a terminal.
+
+use std::io::IsTerminal;
+use std::time::Duration;
+
+use ggx_cpu::Progress;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+/// Resolution of the bar: it counts thousandths of the render.
+const STEPS: u64 = 1000;
+
+/// A bar that draws nothing until [`RenderProgress::start`].
+pub fn new_bar() -> ProgressBar {
+    let target =
+        if std::io::stderr().is_terminal() { ProgressDrawTarget::stderr() } else { ProgressDrawTarget::hidden() };
+    let bar = ProgressBar::with_draw_target(Some(STEPS), target);
+    let style =
+        ProgressStyle::with_template("{spinner} [{bar:30}] {msg}").unwrap_or_else(|_| ProgressStyle::default_bar());
+    bar.set_style(style.progress_chars("=> "));
+    bar
+}
+
+/// Shows a render's [`Progress`] on a bar.
+pub struct RenderProgress {
+    bar: ProgressBar,
+    pixels: u64,
+    budget: Option<Duration>,
+}
+
+impl RenderProgress {
+    /// Starts showing `bar` for a render of `pixels` pixels with an optional time budget in
+    /// seconds.
+    pub fn start(bar: ProgressBar, spp_target: u32, pixels: u64, budget: Option<f32>) -> Self {
+        let budget = budget.and_then(|b| Duration::try_from_secs_f32(b).ok());
+        let this = Self { bar, pixels, budget };
+        this.update(&Progress { spp_done: 0, spp_target, elapsed: Duration::ZERO });
+        this.bar.enable_steady_tick(Duration::from_millis(120));
+        this
+    }
+
+    /// Shows the state after a pass.
+    pub fn update(&self, p: &Progress) {
+        let spp_fraction = if p.spp_target == 0 { 1.0 } else { f64::from(p.spp_done) / f64::from(p.spp_target) };
+        let time_fraction = self.budget.map_or(0.0, |b| p.elapsed.as_secs_f64() / b.as_secs_f64().max(1e-9));
+        let fraction = spp_fraction.max(time_fraction).min(1.0);
+        self.bar.set_position((fraction * STEPS as f64) as u64);
+        self.bar.set_message(self.message(p));
+    }
+
+    fn message(&self, p: &Progress) -> String {
+        let secs = p.elapsed.as_secs_f64();
+        let mut msg = format!("{}/{} spp", p.spp_done, p.spp_target);
+        if p.spp_done > 0 && secs > 0.0 {
+            let rate = f64::from(p.spp_done) * self.pixels as f64 / secs;
+            msg += &format!("  {}", per_second(rate, "samples"));
+        }
+        if let Some(budget) = self.budget {
+            msg += &format!("  {secs:.1}/{:.1} s", budget.as_secs_f64());
+        }
+        if let Some(eta) = self.eta(p) {
+            msg += &format!("  ETA {}", format_duration(eta));
+        }
+        msg
+    }
+
+    /// Time left: by the spp rate so far, capped by the budget.
+    fn eta(&self, p: &Progress) -> Option<f64> {
+        let secs = p.elapsed.as_secs_f64();
+        let by_spp =
+            (p.spp_done > 0).then(|| secs * f64::from(p.spp_target.saturating_sub(p.spp_done)) / f64::from(p.spp_done));
+        let by_budget = self.budget.map(|b| (b.as_secs_f64() - secs).max(0.0));
+        match (by_spp, by_budget) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
+    }
+
+    /// Removes the bar.
+    pub fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
+}
+
+/// `rate` in millions per second, e.g. `12.35 M samples/s` (as in the final summary).
+fn per_second(rate: f64, what: &str) -> String {
+    format!("{:.2} M {what}/s", rate * 1e-6)
+}
+
+/// `secs` as `42s`, `3m05s` or `2h07m`.
+fn format_duration(secs: f64) -> String {
+    let s = secs.round().min(1e9) as u64;
+    match s {
+        0..60 => format!("{s}s"),
+        60..3600 => format!("{}m{:02}s", s / 60, s % 60),
+        _ => format!("{}h{:02}m", s / 3600, s / 60 % 60),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn progress(spp_done: u32, spp_target: u32, secs: f32) -> Progress {
+        Progress { spp_done, spp_target, elapsed: Duration::from_secs_f32(secs) }
+    }
+
+    #[test]
+    fn message_shows_rate_budget_and_eta() {
+        let p = RenderProgress { bar: ProgressBar::hidden(), pixels: 1_000_000, budget: None };
+        assert_eq!(p.message(&progress(0, 64, 0.0)), "0/64 spp");
+        assert_eq!(p.message(&progress(16, 64, 2.0)), "16/64 spp  8.00 M samples/s  ETA 6s");
+        let p = RenderProgress { budget: Some(Duration::from_secs(10)), ..p };
+        assert_eq!(p.message(&progress(0, 1000, 0.0)), "0/1000 spp  0.0/10.0 s  ETA 10s");
+        assert_eq!(p.message(&progress(4, 1000, 2.0)), "4/1000 spp  2.00 M samples/s  2.0/10.0 s  ETA 8s");
+    }
+
+    #[test]
+    fn durations_and_rates() {
+        assert_eq!(format_duration(59.4), "59s");
+        assert_eq!(format_duration(185.0), "3m05s");
+        assert_eq!(format_duration(7620.0), "2h07m");
+        assert_eq!(format_duration(f64::INFINITY), "277777h46m");
+        assert_eq!(per_second(1.5e4, "rays"), "0.01 M rays/s");
+        assert_eq!(per_second(2.5e9, "rays"), "2500.00 M rays/s");
+    }
+}

@@ -1,0 +1,112 @@
+//! `ggx render`: load, apply overrides, render with a progress bar, write the image (also
+//! after Ctrl-C) and print a summary.
+
+use std::io::Write as _;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use anyhow::{Context, Result};
+use ggx_cpu::{Progress, RenderControl, RenderOptions, RenderResult, Renderer};
+use ggx_film::{OutputOptions, ToneMap};
+use ggx_scene::Scene;
+use indicatif::ProgressBar;
+
+use crate::args::{RenderArgs, ToneMapArg};
+use crate::backend::{self, Device};
+use crate::exit::Outcome;
+use crate::progress::RenderProgress;
+use crate::{accel, interrupt, output, overrides};
+
+/// Runs `ggx render`.
+pub fn run(args: &RenderArgs) -> Result<Outcome> {
+    // Everything that can be checked without rendering is checked first.
+    let device = backend::select(args.backend)?;
+    output::check(&args.output)?;
+    let bar = crate::progress::new_bar();
+    let cancel = interrupt::install(bar.clone())?;
+
+    let mut scene = ggx_scene::load_scene(&args.scene)?;
+    overrides::apply(&mut scene, args)?;
+
+    let rendered = match device {
+        Device::Cpu => render_cpu(&scene, args, bar, &cancel),
+    };
+    let Some(result) = rendered else {
+        eprintln!("interrupted before rendering started: no image written");
+        return Ok(Outcome::Interrupted);
+    };
+    let requested = scene.integrator.spp;
+    if result.spp == 0 {
+        eprintln!("interrupted before the first pass was done: no image written");
+        return Ok(Outcome::Interrupted);
+    }
+    if result.interrupted {
+        eprintln!("interrupted after {} of {requested} spp: writing the partial image", result.spp);
+    } else if result.spp < requested {
+        let budget = scene.integrator.time_budget.unwrap_or(0.0);
+        eprintln!("time budget of {budget} s reached after {} of {requested} spp", result.spp);
+    }
+
+    let options = OutputOptions { exposure: args.exposure, tonemap: tone_map(args.tonemap) };
+    let (width, height) = (result.film.width(), result.film.height());
+    // The error names the path and what failed.
+    ggx_film::write_image(&args.output, width, height, &result.film.mean(), &options)?;
+
+    let line = summary(&result, [width, height], &args.output.display().to_string());
+    writeln!(std::io::stdout(), "{line}").context("cannot write to stdout")?;
+    Ok(if result.interrupted { Outcome::Interrupted } else { Outcome::Done })
+}
+
+/// Builds the BVH and renders on the CPU; `None` when cancelled before rendering started.
+fn render_cpu(scene: &Scene, args: &RenderArgs, bar: ProgressBar, cancel: &AtomicBool) -> Option<RenderResult> {
+    let renderer = Renderer::new(scene, accel::kind(args.accel));
+    let [width, height] = scene.camera.resolution;
+    let kernel = if args.generic { "generic kernel" } else { "specialized kernel" };
+    eprintln!(
+        "rendering {} on the CPU: {width}x{height}, {} spp{}, {} built in {}, {kernel}",
+        args.scene.display(),
+        scene.integrator.spp,
+        scene.integrator.time_budget.map_or(String::new(), |t| format!(" or {t} s")),
+        accel::name(args.accel),
+        accel::format_build_time(renderer.build_time()),
+    );
+    // Ctrl-C during loading or the BVH build: skip rendering.
+    if cancel.load(Ordering::SeqCst) {
+        return None;
+    }
+
+    let progress = RenderProgress::start(
+        bar,
+        scene.integrator.spp,
+        u64::from(width) * u64::from(height),
+        scene.integrator.time_budget,
+    );
+    let on_progress = |p: Progress| progress.update(&p);
+    let control = RenderControl { cancel: Some(cancel), progress: Some(&on_progress) };
+    let options = RenderOptions { threads: usize::from(args.threads), specialize: !args.generic };
+    let result = renderer.render(&options, &control);
+    progress.finish();
+    Some(result)
+}
+
+/// The final line: time, spp, size, throughput, kernel variant, output.
+fn summary(result: &RenderResult, [width, height]: [u32; 2], output: &str) -> String {
+    let secs = result.elapsed.as_secs_f64();
+    // Always in M/s so that runs compare at a glance.
+    let rate = |n: u64| if secs > 0.0 { format!("{:.2}", n as f64 / secs * 1e-6) } else { "-".to_owned() };
+    format!(
+        "{}: {secs:.3} s, {} spp, {width}x{height}, {} M camera samples/s, {} M rays/s, kernel {} -> {output}",
+        if result.interrupted { "interrupted" } else { "done" },
+        result.spp,
+        rate(result.camera_samples),
+        rate(result.rays),
+        result.kernel,
+    )
+}
+
+fn tone_map(tonemap: ToneMapArg) -> ToneMap {
+    match tonemap {
+        ToneMapArg::Aces => ToneMap::Aces,
+        ToneMapArg::Reinhard => ToneMap::Reinhard,
+        ToneMapArg::Clamp => ToneMap::Clamp,
+    }
+}

@@ -1,0 +1,147 @@
+//! End-to-end tests of the `ggx` binary: info, rendering to PNG and EXR, time budgets,
+//! errors and their exit codes.
+
+mod support;
+
+use std::time::{Duration, Instant};
+
+use support::{TempDir, ggx, scene, stdout_of};
+
+#[test]
+fn info_prints_counts_and_build_times() {
+    let out = ggx(&["info", &scene("cornell.toml")]);
+    let text = stdout_of(&out);
+    assert!(out.status.success(), "{text}\n{}", String::from_utf8_lossy(&out.stderr));
+    let triangles = text.lines().find_map(|l| l.strip_prefix("triangles:")).expect("a triangles line");
+    let count: usize = triangles.split_whitespace().next().and_then(|n| n.parse().ok()).expect("a triangle count");
+    assert!(count > 12, "{text}");
+    for key in ["materials:", "lights:", "features:", "integrator:", "camera:", "bvh build:", "silver-smooth"] {
+        assert!(text.contains(key), "missing {key}: {text}");
+    }
+    assert!(text.contains("cwbvh") && text.contains("bvh2"), "{text}");
+}
+
+#[test]
+fn renders_png_and_exr_at_the_requested_size() {
+    let dir = TempDir::new("render");
+    for name in ["x.png", "x.exr"] {
+        let path = dir.path().join(name);
+        let out = ggx(&[
+            "render",
+            &scene("furnace.toml"),
+            "-o",
+            path.to_str().unwrap(),
+            "--spp",
+            "2",
+            "--width",
+            "32",
+            "--height",
+            "24",
+        ]);
+        let text = stdout_of(&out);
+        assert_eq!(out.status.code(), Some(0), "{text}\n{}", String::from_utf8_lossy(&out.stderr));
+        assert!(text.contains("2 spp") && text.contains("32x24") && text.contains(name), "{text}");
+    }
+    let png = image::open(dir.path().join("x.png")).unwrap();
+    assert_eq!((png.width(), png.height()), (32, 24));
+    let (w, h, pixels) = ggx_film::read_exr(&dir.path().join("x.exr")).unwrap();
+    assert_eq!((w, h, pixels.len()), (32, 24, 32 * 24));
+    // A white furnace: every pixel sees radiance about 1 (background or spheres).
+    let mean = pixels.iter().map(|p| p.x + p.y + p.z).sum::<f32>() / (3.0 * pixels.len() as f32);
+    assert!((0.5..1.5).contains(&mean), "mean radiance {mean}");
+}
+
+#[test]
+fn lone_width_keeps_the_aspect_ratio() {
+    let dir = TempDir::new("aspect");
+    let path = dir.path().join("a.png");
+    let out = ggx(&["render", &scene("furnace.toml"), "-o", path.to_str().unwrap(), "--spp", "1", "--width", "20"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let png = image::open(&path).unwrap();
+    // furnace.toml is 256x128.
+    assert_eq!((png.width(), png.height()), (20, 10));
+}
+
+#[test]
+fn scene_syntax_error_names_file_line_and_column() {
+    let dir = TempDir::new("syntax");
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(&bad, "[camera]\nposition = [0, 0, 5\nlook_at = [0, 0, 0]\n").unwrap();
+    let out_path = dir.path().join("bad.png");
+    for args in
+        [vec!["info", bad.to_str().unwrap()], vec!["render", bad.to_str().unwrap(), "-o", out_path.to_str().unwrap()]]
+    {
+        let out = ggx(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{err}");
+        let location = format!("error: {}:3:1: ", bad.display());
+        assert!(err.contains(&location), "{err}");
+    }
+    assert!(!out_path.exists());
+}
+
+#[test]
+fn unsupported_extension_fails_before_rendering() {
+    let dir = TempDir::new("ext");
+    let path = dir.path().join("x.jpg");
+    let start = Instant::now();
+    // A render this large would take minutes.
+    let out = ggx(&["render", &scene("cornell.toml"), "-o", path.to_str().unwrap(), "--spp", "1000000"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("unsupported output format `.jpg` (supported: .exr, .png)"), "{err}");
+    assert!(!err.contains("rendering"), "{err}");
+    assert!(start.elapsed() < Duration::from_secs(60));
+    assert!(!path.exists());
+}
+
+#[test]
+fn missing_output_directory_is_an_error() {
+    let dir = TempDir::new("nodir");
+    let path = dir.path().join("no/such/dir/x.png");
+    let out = ggx(&["render", &scene("furnace.toml"), "-o", path.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("does not exist"), "{err}");
+}
+
+#[test]
+fn wgpu_backend_is_a_usage_error() {
+    let dir = TempDir::new("wgpu");
+    let path = dir.path().join("x.png");
+    let out = ggx(&["render", &scene("furnace.toml"), "-o", path.to_str().unwrap(), "--backend", "wgpu"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert_eq!(err.trim(), "error: the wgpu backend is not available in this build");
+    assert!(!path.exists());
+}
+
+#[test]
+fn bad_arguments_are_usage_errors() {
+    for args in [&["render", "x.toml"][..], &["render", "x.toml", "-o", "x.png", "--spp", "0"], &["frobnicate"]] {
+        let out = ggx(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    }
+    let out = ggx(&["--help"]);
+    assert!(out.status.success() && stdout_of(&out).contains("Examples:"));
+    let out = ggx(&["--version"]);
+    assert_eq!(stdout_of(&out).trim(), format!("ggx {}", env!("CARGO_PKG_VERSION")));
+}
+
+#[test]
+fn time_budget_stops_before_the_requested_spp() {
+    let dir = TempDir::new("budget");
+    let path = dir.path().join("t.exr");
+    let out =
+        ggx(&["render", &scene("cornell.toml"), "-o", path.to_str().unwrap(), "--time", "0.5", "--spp", "10000000"]);
+    let text = stdout_of(&out);
+    assert_eq!(out.status.code(), Some(0), "{text}\n{}", String::from_utf8_lossy(&out.stderr));
+    let spp: u32 = text
+        .split(", ")
+        .find_map(|part| part.strip_suffix(" spp"))
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no spp in {text}"));
+    assert!((1..10_000_000).contains(&spp), "{text}");
+    let (w, h, _) = ggx_film::read_exr(&path).unwrap();
+    assert_eq!((w, h), (256, 256));
+}

@@ -1,0 +1,77 @@
+//! Ctrl-C during `ggx render`: the image rendered so far is written and the exit code is 130.
+#![cfg(unix)]
+
+mod support;
+
+use std::io::{BufRead, BufReader, Read};
+use std::process::{Command, Stdio};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+use support::{GGX, TempDir, scene};
+
+/// Sends `signal` (e.g. `-INT`) to process `pid` with the `kill` command.
+fn kill(signal: &str, pid: u32) {
+    let status = Command::new("kill").args([signal, &pid.to_string()]).status().expect("kill runs");
+    assert!(status.success(), "kill {signal} {pid} failed");
+}
+
+#[test]
+fn sigint_writes_the_partial_image_and_exits_130() {
+    let dir = TempDir::new("interrupt");
+    let path = dir.path().join("partial.png");
+    let mut child = Command::new(GGX)
+        .args(["render", &scene("cornell.toml"), "-o", path.to_str().unwrap()])
+        .args(["--spp", "1000000", "--width", "64", "--height", "48", "--threads", "1"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("ggx starts");
+    let pid = child.id();
+
+    // Whatever happens, the child does not outlive the test by long.
+    let done = Arc::new(AtomicBool::new(false));
+    let watchdog = {
+        let done = Arc::clone(&done);
+        std::thread::spawn(move || {
+            for _ in 0..1200 {
+                if done.load(Ordering::SeqCst) {
+                    return;
+                }
+                std::thread::sleep(Duration::from_millis(100));
+            }
+            let _ = Command::new("kill").args(["-KILL", &pid.to_string()]).status();
+        })
+    };
+
+    // The handler is installed before "rendering ..." is printed; a 64x48 pass takes
+    // milliseconds, so after the pause some passes are done and many remain.
+    let mut stderr = BufReader::new(child.stderr.take().unwrap());
+    let mut log = String::new();
+    while !log.contains("rendering ") {
+        let mut line = String::new();
+        if stderr.read_line(&mut line).unwrap() == 0 {
+            break;
+        }
+        log += &line;
+    }
+    assert!(log.contains("rendering "), "ggx did not start rendering: {log}");
+    std::thread::sleep(Duration::from_millis(1500));
+    kill("-INT", pid);
+
+    stderr.read_to_string(&mut log).unwrap();
+    let mut stdout = String::new();
+    child.stdout.take().unwrap().read_to_string(&mut stdout).unwrap();
+    let status = child.wait().unwrap();
+    done.store(true, Ordering::SeqCst);
+    watchdog.join().unwrap();
+
+    assert_eq!(status.code(), Some(130), "stdout: {stdout}\nstderr: {log}");
+    assert!(log.contains("interrupted after "), "{log}");
+    assert!(stdout.starts_with("interrupted: "), "{stdout}");
+    let png = image::open(&path).unwrap_or_else(|e| panic!("{}: {e}\n{log}", path.display()));
+    assert_eq!((png.width(), png.height()), (64, 48));
+    // The lit box is not black.
+    assert!(png.to_rgb8().pixels().any(|p| p.0.iter().any(|&c| c > 0)));
+}
