@@ -14,19 +14,22 @@ fn projected_area_is_one() {
     for (ax, ay) in pairs {
         let d = TrowbridgeReitz::new(ax, ay);
         let integral = hemisphere_integral(4000, 512, |wm| d.d(wm) as f64 * wm.z as f64);
-        println!("alpha ({ax}, {ay}): integral D cos = {integral:.6}");
+        println!("alpha ({ax}, {ay}): |integral D cos - 1| = {:.2e}", (integral - 1.0).abs());
         assert!((integral - 1.0).abs() < 1e-3, "alpha ({ax}, {ay}): {integral}");
     }
 }
 
 #[test]
 fn visible_normals_integrate_to_one() {
+    let mut worst = 0.0f64;
     for (ax, ay) in alpha_pairs() {
         let d = TrowbridgeReitz::new(ax, ay);
         for inc in INCIDENCES_DEG {
             let wo = wo_at(inc);
             let integral = hemisphere_integral(3000, 1024, |wm| d.d_visible(wo, wm) as f64);
+            worst = worst.max((integral - 1.0).abs());
             assert!((integral - 1.0).abs() < 1e-3, "alpha ({ax}, {ay}) at {inc} deg: {integral}");
         }
     }
+    println!("35 configurations: worst |integral D_wo - 1| = {worst:.2e}");
 }

@@ -54,11 +54,14 @@ pub const SOBOL_DIRECTIONS: [[u32; 32]; 4] =
 // x = XOR of v_k over the set bits k of index (Sobol' 1967; Joe & Kuo 2008).
 #[inline]
 pub fn sobol(index: u32, dim: u32) -> u32 {
+    let table = &SOBOL_DIRECTIONS[(dim & 3) as usize];
     let mut x = 0;
+    // Only the set bits of the index contribute: ~16 iterations for a shuffled index, far
+    // fewer for the small unshuffled indices of a render.
     let mut bits = index;
-    for v in &SOBOL_DIRECTIONS[(dim & 3) as usize] {
-        x ^= v & 0u32.wrapping_sub(bits & 1);
-        bits >>= 1;
+    while bits != 0 {
+        x ^= table.get(bits.trailing_zeros() as usize).copied().unwrap_or(0);
+        bits &= bits - 1;
     }
     x
 }
@@ -88,7 +91,14 @@ pub fn owen_scramble(x: u32, seed: u32) -> u32 {
 #[inline]
 pub fn sobol_owen_u32(index: u32, dim: u32, seed: u32) -> u32 {
     let group_seed = hash_combine(seed, dim >> 2);
-    let shuffled = owen_scramble(index, group_seed);
+    sobol_owen_shuffled(owen_scramble(index, group_seed), group_seed, dim)
+}
+
+/// The second half of [`sobol_owen_u32`]: the point of an already shuffled index, so a 2D
+/// draw shuffles its index once for both dimensions of the group.
+// owen_scramble(sobol(shuffled, dim & 3), hash_combine(group_seed, dim & 3)).
+#[inline]
+pub fn sobol_owen_shuffled(shuffled: u32, group_seed: u32, dim: u32) -> u32 {
     owen_scramble(sobol(shuffled, dim), hash_combine(group_seed, dim & 3))
 }
 
