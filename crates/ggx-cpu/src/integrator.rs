@@ -24,21 +24,34 @@ pub struct Counters {
     pub shadow_rays: u64,
 }
 
-/// The random numbers of one bounce, always drawn in this order by every kernel variant.
+/// The random numbers of one bounce. Drawn after the path is known to continue, and only
+/// those the scene can use (`draw` depends on per-scene values alone, never on the kernel
+/// variant, so every variant consumes the same dimensions in the same order).
 struct BounceSamples {
     bsdf: Vec2,
-    light: Vec2,
     lobe: f32,
+    light: Vec2,
     select: f32,
     roulette: f32,
 }
 
+/// Which dimensions a bounce of this scene consumes.
+#[derive(Clone, Copy)]
+struct Draws {
+    lobe: bool,
+    light: bool,
+    select: bool,
+}
+
 impl BounceSamples {
     #[inline(always)]
-    fn draw(stream: &mut SampleStream) -> Self {
+    fn draw(stream: &mut SampleStream, draws: Draws, roulette: bool) -> Self {
         let bsdf = stream.next_2d();
-        let light = stream.next_2d();
-        BounceSamples { bsdf, light, lobe: stream.next_1d(), select: stream.next_1d(), roulette: stream.next_1d() }
+        let lobe = if draws.lobe { stream.next_1d() } else { 0.5 };
+        let light = if draws.light { stream.next_2d() } else { Vec2::ZERO };
+        let select = if draws.select { stream.next_1d() } else { 0.0 };
+        let roulette = if roulette { stream.next_1d() } else { 0.5 };
+        BounceSamples { bsdf, lobe, light, select, roulette }
     }
 }
 
@@ -86,6 +99,11 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool>(
         0.0
     };
     let p_env = if has_env { 1.0 - p_area } else { 0.0 };
+    let draws = Draws {
+        lobe: scene.features.plastics,
+        light: use_nee && (has_area || has_env),
+        select: use_nee && has_area && has_env,
+    };
 
     let mut radiance = Vec3::ZERO;
     let mut beta = Vec3::ONE;
@@ -94,7 +112,6 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool>(
     let mut prev_delta = true; // the camera ray counts as "specular": emission is always added
     let mut depth = 0u32;
     loop {
-        let s = BounceSamples::draw(stream);
         counters.rays += 1;
         let Some(hit) = scene.accel.closest(origin, dir, f32::INFINITY) else {
             if has_env && let Some(env) = &scene.environment {
@@ -138,6 +155,8 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool>(
         if depth >= scene.max_depth || !bsdf.reflects() {
             break;
         }
+        let roulette = scene.roulette_depth > 0 && depth + 1 >= scene.roulette_depth;
+        let s = BounceSamples::draw(stream, draws, roulette);
 
         // Shading frame on the side the ray arrives from (two-sided materials).
         let ng = if ng.dot(dir) > 0.0 { -ng } else { ng };

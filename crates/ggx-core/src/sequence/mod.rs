@@ -16,6 +16,7 @@ mod stream;
 pub use counter::CounterRng;
 pub use hash::{hash_combine, hash_u32, u32_to_unit_f32};
 pub use sobol::{
-    SOBOL_DIMENSIONS, SOBOL_DIRECTIONS, owen_scramble, sobol, sobol_owen, sobol_owen_shuffled, sobol_owen_u32,
+    SOBOL_DIMENSIONS, SOBOL_DIRECTIONS, owen_scramble, shuffle_index_reversed, sobol, sobol_owen, sobol_owen_shuffled,
+    sobol_owen_u32,
 };
 pub use stream::{SampleStream, SequenceKind};

@@ -47,6 +47,38 @@ const fn van_der_corput() -> [u32; 32] {
 pub const SOBOL_DIRECTIONS: [[u32; 32]; 4] =
     [van_der_corput(), directions(1, 0, [1, 0, 0]), directions(2, 1, [1, 3, 0]), directions(3, 1, [1, 3, 1])];
 
+/// Bit-reversed direction numbers in reversed order: `R[d][j] = reverse(V[d][31 - j])`, so
+/// that `reverse(sobol(reverse(r), d))` is the XOR of `R[d][j]` over the set bits `j` of `r`.
+/// Lets the Owen-scrambled point skip two of its four bit reversals (x86 has no bit-reverse
+/// instruction); the results are bit-identical.
+const SOBOL_DIRECTIONS_REVERSED: [[u32; 32]; 4] = reverse_tables(SOBOL_DIRECTIONS);
+
+const fn reverse_tables(v: [[u32; 32]; 4]) -> [[u32; 32]; 4] {
+    let mut out = [[0u32; 32]; 4];
+    let mut d = 0;
+    while d < 4 {
+        let mut j = 0;
+        while j < 32 {
+            out[d][j] = v[d][31 - j].reverse_bits();
+            j += 1;
+        }
+        d += 1;
+    }
+    out
+}
+
+/// XOR of `table[j]` over the set bits `j` of `bits`.
+#[inline(always)]
+fn xor_set_bits(table: &[u32; 32], bits: u32) -> u32 {
+    let mut x = 0;
+    let mut bits = bits;
+    while bits != 0 {
+        x ^= table.get(bits.trailing_zeros() as usize).copied().unwrap_or(0);
+        bits &= bits - 1;
+    }
+    x
+}
+
 /// Sobol' point `index` in dimension `dim % 4`, as a 32-bit fraction of 2^32.
 ///
 /// Direct (non Gray code) order: the first 2^m points are the same set as
@@ -54,16 +86,7 @@ pub const SOBOL_DIRECTIONS: [[u32; 32]; 4] =
 // x = XOR of v_k over the set bits k of index (Sobol' 1967; Joe & Kuo 2008).
 #[inline]
 pub fn sobol(index: u32, dim: u32) -> u32 {
-    let table = &SOBOL_DIRECTIONS[(dim & 3) as usize];
-    let mut x = 0;
-    // Only the set bits of the index contribute: ~16 iterations for a shuffled index, far
-    // fewer for the small unshuffled indices of a render.
-    let mut bits = index;
-    while bits != 0 {
-        x ^= table.get(bits.trailing_zeros() as usize).copied().unwrap_or(0);
-        bits &= bits - 1;
-    }
-    x
+    xor_set_bits(&SOBOL_DIRECTIONS[(dim & 3) as usize], index)
 }
 
 /// Nested uniform (Owen) scramble of a 32-bit fraction.
@@ -74,13 +97,19 @@ pub fn sobol(index: u32, dim: u32) -> u32 {
 // reverse(LK(reverse(x), seed)), LK = x += seed then 4 rounds x ^= x * even_k (Laine & Karras 2011; Burley 2020).
 #[inline]
 pub fn owen_scramble(x: u32, seed: u32) -> u32 {
-    let mut x = x.reverse_bits();
-    x = x.wrapping_add(seed);
+    laine_karras(x.reverse_bits(), seed).reverse_bits()
+}
+
+/// The hash-based nested-uniform permutation on bit-reversed values (Burley 2020's
+/// constants): `v += seed`, then `v ^= v * c` for four constants.
+#[inline(always)]
+fn laine_karras(v: u32, seed: u32) -> u32 {
+    let mut x = v.wrapping_add(seed);
     x ^= x.wrapping_mul(0x6c50_b47c);
     x ^= x.wrapping_mul(0xb82f_1e52);
     x ^= x.wrapping_mul(0xc7af_e638);
     x ^= x.wrapping_mul(0x8d22_f6e6);
-    x.reverse_bits()
+    x
 }
 
 /// Owen-scrambled, index-shuffled Sobol' point as a 32-bit fraction.
@@ -91,15 +120,24 @@ pub fn owen_scramble(x: u32, seed: u32) -> u32 {
 #[inline]
 pub fn sobol_owen_u32(index: u32, dim: u32, seed: u32) -> u32 {
     let group_seed = hash_combine(seed, dim >> 2);
-    sobol_owen_shuffled(owen_scramble(index, group_seed), group_seed, dim)
+    sobol_owen_shuffled(laine_karras(index.reverse_bits(), group_seed), group_seed, dim)
 }
 
-/// The second half of [`sobol_owen_u32`]: the point of an already shuffled index, so a 2D
-/// draw shuffles its index once for both dimensions of the group.
-// owen_scramble(sobol(shuffled, dim & 3), hash_combine(group_seed, dim & 3)).
+/// The second half of [`sobol_owen_u32`] for an index already shuffled and *kept in
+/// bit-reversed form* (`reversed = reverse(owen_scramble(index, group_seed))`), so a 2D draw
+/// shuffles its index once for both dimensions and skips the reversals that cancel.
+// reverse(LK(XOR of R[dim & 3][j] over set bits j of reversed, hash_combine(group_seed, dim & 3))).
 #[inline]
-pub fn sobol_owen_shuffled(shuffled: u32, group_seed: u32, dim: u32) -> u32 {
-    owen_scramble(sobol(shuffled, dim), hash_combine(group_seed, dim & 3))
+pub fn sobol_owen_shuffled(reversed: u32, group_seed: u32, dim: u32) -> u32 {
+    let point = xor_set_bits(&SOBOL_DIRECTIONS_REVERSED[(dim & 3) as usize], reversed);
+    laine_karras(point, hash_combine(group_seed, dim & 3)).reverse_bits()
+}
+
+/// `reverse(owen_scramble(index, group_seed))`: the shuffled index in the bit-reversed form
+/// [`sobol_owen_shuffled`] takes.
+#[inline]
+pub fn shuffle_index_reversed(index: u32, group_seed: u32) -> u32 {
+    laine_karras(index.reverse_bits(), group_seed)
 }
 
 /// Owen-scrambled, index-shuffled Sobol' point in `[0, 1)`: [`sobol_owen_u32`] as f32.

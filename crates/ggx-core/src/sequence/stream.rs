@@ -4,7 +4,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::Vec2;
 
 use super::hash::{hash_combine, u32_to_unit_f32};
-use super::sobol::{owen_scramble, sobol_owen_shuffled, sobol_owen_u32};
+use super::sobol::{shuffle_index_reversed, sobol_owen_shuffled, sobol_owen_u32};
 
 /// Which sequence a [`SampleStream`] draws from.
 #[repr(u32)]
@@ -92,8 +92,8 @@ impl SampleStream {
         let (x, y) = if self.kind == SequenceKind::Sobol as u32 {
             // Same bits as get_u32(d), get_u32(d + 1), with the index shuffled once.
             let group_seed = hash_combine(self.seed, d >> 2);
-            let shuffled = owen_scramble(self.sample_index, group_seed);
-            (sobol_owen_shuffled(shuffled, group_seed, d), sobol_owen_shuffled(shuffled, group_seed, d.wrapping_add(1)))
+            let reversed = shuffle_index_reversed(self.sample_index, group_seed);
+            (sobol_owen_shuffled(reversed, group_seed, d), sobol_owen_shuffled(reversed, group_seed, d.wrapping_add(1)))
         } else {
             (self.get_u32(d), self.get_u32(d.wrapping_add(1)))
         };
