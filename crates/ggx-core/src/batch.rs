@@ -68,9 +68,11 @@ pub fn sample_vndf(
         let a = u0[i].max(0.0).min(ONE_MINUS_EPSILON);
         let b = u1[i].max(0.0).min(ONE_MINUS_EPSILON);
         let (sin_phi, cos_phi) = sincos_2pi(a);
-        let z = (1.0 - b) * (1.0 + vz) - vz;
+        let t = (1.0 - b) * (1.0 + vz);
+        let z = t - vz;
         let st = crate::math::sqrt((1.0 - z * z).max(0.0));
-        let (hx, hy, hz) = (st * cos_phi + vx, st * sin_phi + vy, z + vz);
+        // z + vz is exactly t (no cancellation), as in TrowbridgeReitz::sample_cap.
+        let (hx, hy, hz) = (st * cos_phi + vx, st * sin_phi + vy, t);
         // Unstretch and normalize.
         let (mx, my, mz) = (ax * hx, ay * hy, hz.max(0.0));
         let minv = rsqrt_or_zero(mx * mx + my * my + mz * mz);

@@ -34,23 +34,29 @@ impl Frame {
         }
     }
 
-    /// Coordinates of a world vector in this frame.
+    /// Coordinates of a world vector in this frame (zero for a non-finite result).
     #[inline]
     pub fn to_local(&self, v: Vec3) -> Vec3 {
-        Vec3::new(v.dot(self.x), v.dot(self.y), v.dot(self.z))
+        finite_or_zero3(Vec3::new(v.dot(self.x), v.dot(self.y), v.dot(self.z)))
     }
 
-    /// World vector from coordinates in this frame.
+    /// World vector from coordinates in this frame (zero for a non-finite result).
     #[inline]
     pub fn to_world(&self, v: Vec3) -> Vec3 {
-        self.x * v.x + self.y * v.y + self.z * v.z
+        finite_or_zero3(self.x * v.x + self.y * v.y + self.z * v.z)
     }
 }
 
-/// Mirror reflection of `wo` about `n`: `2 (wo . n) n - wo`.
+/// Mirror reflection of `wo` about `n`: `2 (wo . n) n - wo` (zero for a non-finite result).
 #[inline]
 pub fn reflect(wo: Vec3, n: Vec3) -> Vec3 {
-    2.0 * wo.dot(n) * n - wo
+    finite_or_zero3(2.0 * wo.dot(n) * n - wo)
+}
+
+/// `v` if every component is finite, else zero.
+#[inline(always)]
+fn finite_or_zero3(v: Vec3) -> Vec3 {
+    if v.is_finite() { v } else { Vec3::ZERO }
 }
 
 #[cfg(test)]

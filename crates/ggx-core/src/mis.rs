@@ -26,8 +26,9 @@ fn heuristic(f: f32, g: f32, small_over_large: impl Fn(f32) -> f32) -> f32 {
 /// Balance heuristic, Veach eq. 9.10: `w = nf pf / (nf pf + ng pg)`.
 #[inline]
 pub fn balance_heuristic(nf: f32, f_pdf: f32, ng: f32, g_pdf: f32) -> f32 {
-    let f = sanitize(nf) * sanitize(f_pdf);
-    let g = sanitize(ng) * sanitize(g_pdf);
+    // A product 0 * inf (an unused technique with a delta density) is NaN: sanitize again.
+    let f = sanitize(sanitize(nf) * sanitize(f_pdf));
+    let g = sanitize(sanitize(ng) * sanitize(g_pdf));
     // For r = small/large: w_small = r / (1 + r).
     heuristic(f, g, |r| r / (1.0 + r))
 }
@@ -35,8 +36,8 @@ pub fn balance_heuristic(nf: f32, f_pdf: f32, ng: f32, g_pdf: f32) -> f32 {
 /// Power heuristic with beta = 2, Veach eq. 9.13: `w = (nf pf)^2 / ((nf pf)^2 + (ng pg)^2)`.
 #[inline]
 pub fn power_heuristic(nf: f32, f_pdf: f32, ng: f32, g_pdf: f32) -> f32 {
-    let f = sanitize(nf) * sanitize(f_pdf);
-    let g = sanitize(ng) * sanitize(g_pdf);
+    let f = sanitize(sanitize(nf) * sanitize(f_pdf));
+    let g = sanitize(sanitize(ng) * sanitize(g_pdf));
     // For r = small/large: w_small = r^2 / (1 + r^2).
     heuristic(f, g, |r| {
         let r2 = r * r;
@@ -67,6 +68,11 @@ mod tests {
 
     #[test]
     fn special_densities_give_finite_weights_in_range() {
+        for (n, p) in [(0.0f32, f32::INFINITY), (f32::NAN, f32::INFINITY), (0.0, f32::NAN)] {
+            assert_eq!(balance_heuristic(n, p, 1.0, 1.0), 0.0);
+            assert_eq!(power_heuristic(n, p, 1.0, 1.0), 0.0);
+            assert_eq!(power_heuristic(1.0, 1.0, n, p), 1.0);
+        }
         let specials = [0.0, -1.0, f32::NAN, f32::INFINITY, f32::NEG_INFINITY, f32::MAX, f32::MIN_POSITIVE, 1e-45, 1.0];
         for &f in &specials {
             for &g in &specials {

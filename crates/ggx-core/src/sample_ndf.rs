@@ -21,6 +21,6 @@ impl TrowbridgeReitz {
     /// Density of [`Self::sample_wm_ndf`]: `D(wm) wm.z`.
     #[inline]
     pub fn pdf_wm_ndf(&self, wm: Vec3) -> f32 {
-        self.d(wm) * wm.z.max(0.0)
+        crate::math::finite_or_zero(self.d(wm) * wm.z.max(0.0))
     }
 }

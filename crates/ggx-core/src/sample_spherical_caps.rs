@@ -24,9 +24,12 @@ impl TrowbridgeReitz {
     pub(crate) fn sample_cap(&self, vh: Vec3, lower: f32, u: Vec2) -> Vec3 {
         let u = sanitize_u2(u);
         let (sin_phi, cos_phi) = sincos_2pi(u.x);
-        let z = (1.0 - u.y) * (1.0 + lower) - lower;
+        let t = (1.0 - u.y) * (1.0 + lower);
+        let z = t - lower;
         let sin_theta = safe_sqrt(1.0 - z * z);
-        let h = Vec3::new(sin_theta * cos_phi, sin_theta * sin_phi, z) + vh;
+        // h.z = z + vh.z written as t + (vh.z - lower): no cancellation as u1 -> 1 (for spherical
+        // caps it is exactly t), which GPU compilers would otherwise fold differently.
+        let h = Vec3::new(sin_theta * cos_phi + vh.x, sin_theta * sin_phi + vh.y, t + (vh.z - lower));
         normalize_or_zero(Vec3::new(self.alpha_x * h.x, self.alpha_y * h.y, h.z.max(0.0)))
     }
 }

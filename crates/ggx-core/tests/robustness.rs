@@ -105,9 +105,17 @@ proptest! {
             prop_assert!(ok3(r) && r.max_element() <= 1.0, "{f:?} {c} -> {r:?}");
         }
         for h in [balance_heuristic, power_heuristic] {
-            let m = h(1.0, p, 1.0, q);
-            prop_assert!((0.0..=1.0).contains(&m));
+            for m in [h(1.0, p, 1.0, q), h(c, p, e, q), h(e, f32::INFINITY, c, q)] {
+                prop_assert!((0.0..=1.0).contains(&m), "MIS weight {m}");
+            }
         }
+        let v = Vec3::new(p, q, c);
+        for r in [ggx_core::reflect(v, w), ggx_core::reflect(w, v), frame.to_local(v), frame.to_world(v)] {
+            prop_assert!(r.is_finite(), "{r:?}");
+        }
+        let s = ggx_core::fresnel::fresnel_schlick(c, Vec3::splat(e), Vec3::splat(p));
+        prop_assert!(s.is_finite(), "schlick {s:?}");
+        prop_assert!(ok(TrowbridgeReitz::new(p, q).pdf_wm_ndf(v)));
         for s in [warp::sample_cosine_hemisphere(Vec2::new(p, q)), warp::sample_uniform_hemisphere(Vec2::new(p, q))] {
             prop_assert!((s.length() - 1.0).abs() < 1e-5 && s.z > 0.0);
         }

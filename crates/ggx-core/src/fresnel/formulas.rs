@@ -1,7 +1,7 @@
 //! The scalar Fresnel formulas.
 
 use super::complex::Complex;
-use crate::math::safe_sqrt;
+use crate::math::{finite_or_zero, safe_sqrt};
 use glam::Vec3;
 
 /// Schlick 1994 with Burley's `f90`: `F = f0 + (f90 - f0) (1 - cos)^5`, cos clamped to `[0, 1]`.
@@ -9,7 +9,9 @@ use glam::Vec3;
 pub fn fresnel_schlick(cos_theta: f32, f0: Vec3, f90: Vec3) -> Vec3 {
     let m = 1.0 - cos_theta.max(0.0).min(1.0);
     let m2 = m * m;
-    f0 + (f90 - f0) * (m2 * m2 * m)
+    let f = f0 + (f90 - f0) * (m2 * m2 * m);
+    // NaN or infinite parameters give 0 rather than propagating.
+    Vec3::new(finite_or_zero(f.x), finite_or_zero(f.y), finite_or_zero(f.z))
 }
 
 /// Exact unpolarised dielectric reflectance (Fresnel equations, pbrt-v4 `FrDielectric`):
