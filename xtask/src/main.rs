@@ -2,10 +2,21 @@
 //! (the rust-analyzer convention). Commands:
 //!
 //! * `ci`: everything CI checks, in order, stopping at the first failure: rustfmt, clippy
-//!   with `-D warnings`, the `no_std` build proof, and the whole test suite.
+//!   with `-D warnings`, the `no_std` build proof, the whole test suite, and `stress --quick`.
+//! * `stress [--quick] [--samples N]`: the numerical stability sweep of ggx-core's samplers
+//!   (see [`stress`]).
+
+mod stress;
 
 use std::process::{Command, ExitCode};
 use std::time::Instant;
+
+/// Printed for an unknown command or bad arguments.
+const USAGE: &str = "usage: cargo xtask <command>
+
+  ci                             rustfmt check, clippy -D warnings, no_std build check, all tests, stress --quick
+  stress [--quick] [--samples N] numerical stress sweep of ggx-core's samplers: N samples per method
+                                 (default 1e8; --quick: 1e6); fails on any NaN/inf or invalid accepted sample";
 
 /// The crate that proves ggx-core builds without std. It must be built on its own: built
 /// together with crates that enable ggx-core's `std` feature, feature unification would
@@ -16,10 +27,15 @@ fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
         Some("ci") => ci(),
+        Some("stress") => match stress::Options::parse(&args[1..]) {
+            Ok(options) => stress::run(&options),
+            Err(e) => {
+                eprintln!("xtask: {e}\n\n{USAGE}");
+                return ExitCode::from(2);
+            }
+        },
         _ => {
-            eprintln!(
-                "usage: cargo xtask ci\n\n  ci    rustfmt check, clippy -D warnings, no_std build check, all tests"
-            );
+            eprintln!("{USAGE}");
             return ExitCode::from(2);
         }
     };
@@ -52,6 +68,11 @@ fn ci() -> Result<(), String> {
     cargo(&["build", "-p", "ggx-core", "--no-default-features"])?;
     cargo(&["clippy", "-p", NOSTD_CHECK, "--", "-D", "warnings"])?;
     cargo(&["test", "--workspace", "--exclude", NOSTD_CHECK])?;
+    // In process rather than through cargo: xtask is built already, so nothing else compiles.
+    eprintln!("\n==> stress --quick (in process)");
+    let stress_start = Instant::now();
+    stress::run(&stress::Options::quick())?;
+    eprintln!("<== stress --quick: {:.1} s", stress_start.elapsed().as_secs_f64());
     eprintln!("\nxtask ci: all checks passed in {:.0} s", start.elapsed().as_secs_f64());
     Ok(())
 }

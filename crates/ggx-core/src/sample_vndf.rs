@@ -2,7 +2,7 @@
 //! Normals" (JCGT 7(4)).
 
 use crate::TrowbridgeReitz;
-use crate::math::{normalize_or_zero, safe_sqrt, sanitize_u2, sincos_2pi};
+use crate::math::{normalize_or_zero, safe_sqrt, sanitize_u2, sincos_2pi, sqrt};
 use glam::{Vec2, Vec3};
 
 impl TrowbridgeReitz {
@@ -16,8 +16,11 @@ impl TrowbridgeReitz {
         }
         let u = sanitize_u2(u);
         let vh = normalize_or_zero(Vec3::new(self.alpha_x * wo.x, self.alpha_y * wo.y, wo.z));
-        // Basis around vh; near normal incidence the rotation is irrelevant (pbrt-v4's 0.99999).
-        let t1 = if vh.z < 0.99999 { normalize_or_zero(Vec3::new(-vh.y, vh.x, 0.0)) } else { Vec3::X };
+        // Basis around vh, Heitz 2018's rule: X only when vh is exactly the normal. (pbrt-v4's
+        // shortcut "vh.z >= 0.99999 -> X" tilts the sampled hemisphere by up to 4.5e-3 rad,
+        // which tiny alphas magnify into back-facing normals; found by `cargo xtask stress`.)
+        let lensq = vh.x * vh.x + vh.y * vh.y;
+        let t1 = if lensq > 0.0 { Vec3::new(-vh.y, vh.x, 0.0) * (1.0 / sqrt(lensq)) } else { Vec3::X };
         let t2 = vh.cross(t1);
         // Uniform point on the unit disk (polar map), then warp to the projected hemisphere.
         let r = safe_sqrt(u.x);
