@@ -1,0 +1,106 @@
+//! # ggx-wgpu
+//!
+//! The GPU twin of [`ggx_core`]: [`GGX_CORE_WGSL`] mirrors the crate function by function in
+//! WGSL, and [`run_parity`] runs every mirrored function on a wgpu adapter over edge-case
+//! input tables and compares the results with ggx-core on the CPU (sequences bit for bit,
+//! floating-point math within a stated ULP / absolute bound).
+//!
+//! ```no_run
+//! let ctx = ggx_wgpu::GpuContext::new(Default::default())?;
+//! println!("{}", ctx.describe());
+//! let report = ggx_wgpu::run_parity(&ctx)?;
+//! print!("{}", report.table());
+//! assert!(report.passed());
+//! # Ok::<(), ggx_wgpu::GpuError>(())
+//! ```
+#![deny(missing_docs)]
+
+mod context;
+mod parity;
+
+pub use context::{GpuContext, GpuError, GpuOptions};
+pub use parity::{Bound, Contract, ParityReport, ProbeReport, RowReport, run_parity};
+
+/// WGSL source of the ggx-core mirror: constants, structs and functions, no entry points and
+/// no bindings, so it can be prepended to any shader.
+pub const GGX_CORE_WGSL: &str = include_str!("shaders/ggx_core.wgsl");
+
+/// WGSL source of the parity kernel; it expects [`GGX_CORE_WGSL`] in front of it.
+pub const PARITY_WGSL: &str = include_str!("shaders/parity.wgsl");
+
+/// The `SOBOL_DIRECTIONS` constant of [`GGX_CORE_WGSL`] as generated from
+/// [`ggx_core::sequence::SOBOL_DIRECTIONS`]; a test checks that the shader contains exactly this.
+pub fn sobol_directions_wgsl() -> String {
+    let mut s = String::from("const SOBOL_DIRECTIONS: array<array<u32, 32>, 4> = array<array<u32, 32>, 4>(\n");
+    for dim in &ggx_core::sequence::SOBOL_DIRECTIONS {
+        s.push_str("    array<u32, 32>(\n");
+        for row in dim.chunks(8) {
+            let words: Vec<String> = row.iter().map(|w| format!("{w:#010x}u")).collect();
+            s.push_str(&format!("        {},\n", words.join(", ")));
+        }
+        s.push_str("    ),\n");
+    }
+    s.push_str(");\n");
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(source: &str) -> naga::Module {
+        naga::front::wgsl::parse_str(source).unwrap_or_else(|e| panic!("{}", e.emit_to_string(source)))
+    }
+
+    fn validate(module: &naga::Module) {
+        let mut validator = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), Default::default());
+        if let Err(e) = validator.validate(module) {
+            panic!("{:?}", e.into_inner());
+        }
+    }
+
+    #[test]
+    fn sobol_table_matches_ggx_core() {
+        let expected = sobol_directions_wgsl();
+        assert!(GGX_CORE_WGSL.contains(&expected), "ggx_core.wgsl must contain exactly:\n{expected}");
+    }
+
+    #[test]
+    fn shaders_parse_and_validate() {
+        validate(&parse(GGX_CORE_WGSL));
+        validate(&parse(&format!("{GGX_CORE_WGSL}\n{PARITY_WGSL}")));
+    }
+
+    /// Size of a WGSL struct and the offsets of its members, by name.
+    fn wgsl_layout(module: &naga::Module, name: &str) -> (u32, Vec<(String, u32)>) {
+        let ty = module.types.iter().find(|(_, t)| t.name.as_deref() == Some(name)).expect(name).1;
+        match &ty.inner {
+            naga::TypeInner::Struct { members, span } => {
+                (*span, members.iter().map(|m| (m.name.clone().unwrap(), m.offset)).collect())
+            }
+            _ => panic!("{name} is not a struct"),
+        }
+    }
+
+    macro_rules! assert_layout {
+        ($module:expr, $ty:ty, $($field:ident),+) => {{
+            let (size, members) = wgsl_layout($module, stringify!($ty));
+            assert_eq!(size as usize, size_of::<$ty>(), "size of {}", stringify!($ty));
+            let rust = [$((stringify!($field).to_string(), core::mem::offset_of!($ty, $field) as u32)),+];
+            assert_eq!(members, rust, "members of {}", stringify!($ty));
+        }};
+    }
+
+    #[test]
+    fn struct_layouts_match_the_rust_pod_structs() {
+        use ggx_core::{CounterRng, FresnelParams, GgxConductor, SampleStream, TrowbridgeReitz};
+        let module = parse(GGX_CORE_WGSL);
+        assert_layout!(&module, TrowbridgeReitz, alpha_x, alpha_y);
+        assert_layout!(&module, FresnelParams, kind, eta, pad, a, b);
+        assert_layout!(&module, GgxConductor, distribution, pad, fresnel);
+        assert_layout!(&module, CounterRng, key, counter);
+        assert_layout!(&module, SampleStream, kind, seed, sample_index, dimension);
+        assert_eq!(size_of::<FresnelParams>(), 48);
+        assert_eq!(size_of::<GgxConductor>(), 64);
+    }
+}

@@ -1,0 +1,736 @@
+//! The parity input tables and ggx-core's expected outputs, one row per WGSL function.
+
+use bytemuck::{Pod, Zeroable};
+use ggx_core::fresnel::{FresnelParams, fresnel_complex, fresnel_dielectric, fresnel_schlick};
+use ggx_core::sequence::{self as seq, CounterRng, SampleStream, SequenceKind};
+use ggx_core::{Frame, Fresnel, GgxConductor, Sampling, TrowbridgeReitz, alpha, math, mis, reflect, warp};
+use glam::{Vec2, Vec3};
+
+use super::{Bound, Contract};
+
+/// One case, `ParityIn` in parity.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, Default, Pod, Zeroable)]
+pub(super) struct Input {
+    pub(super) a: [f32; 4],
+    pub(super) b: [f32; 4],
+    pub(super) c: [f32; 4],
+    pub(super) n: [u32; 4],
+    pub(super) m: [u32; 4],
+}
+
+impl Input {
+    fn scalar(x: f32) -> Self {
+        Input { a: [x, 0.0, 0.0, 0.0], ..Default::default() }
+    }
+    fn dir(a: Vec3) -> Self {
+        Input { a: a.extend(0.0).to_array(), ..Default::default() }
+    }
+    fn pair(a: Vec3, b: Vec3) -> Self {
+        Input { b: b.extend(0.0).to_array(), ..Input::dir(a) }
+    }
+    fn dir_u(a: Vec3, u: Vec2) -> Self {
+        Input { c: [u.x, u.y, 0.0, 0.0], ..Input::dir(a) }
+    }
+    fn words(n: [u32; 4]) -> Self {
+        Input { n, ..Default::default() }
+    }
+    fn va(&self) -> Vec3 {
+        Vec3::new(self.a[0], self.a[1], self.a[2])
+    }
+    fn vb(&self) -> Vec3 {
+        Vec3::new(self.b[0], self.b[1], self.b[2])
+    }
+    fn vc(&self) -> Vec3 {
+        Vec3::new(self.c[0], self.c[1], self.c[2])
+    }
+    fn u(&self) -> Vec2 {
+        Vec2::new(self.c[0], self.c[1])
+    }
+}
+
+/// One expected output word.
+#[derive(Clone, Copy)]
+pub(super) enum Expect {
+    /// Must match bit for bit (integers, flags, sequence floats).
+    Bits(u32),
+    /// Must match within the row's [`Bound`].
+    Float(f32),
+}
+
+fn floats(xs: &[f32]) -> Vec<Expect> {
+    xs.iter().map(|&x| Expect::Float(x)).collect()
+}
+
+fn words(xs: &[u32]) -> Vec<Expect> {
+    xs.iter().map(|&x| Expect::Bits(x)).collect()
+}
+
+fn v3(v: Vec3) -> [f32; 3] {
+    v.to_array()
+}
+
+/// One function to compare: its name, tolerance and cases with the CPU's outputs.
+pub(super) struct Spec {
+    pub(super) name: &'static str,
+    pub(super) bound: Bound,
+    pub(super) contract: Contract,
+    pub(super) cases: Vec<Input>,
+    pub(super) bsdfs: Vec<GgxConductor>,
+    pub(super) expect: Vec<Vec<Expect>>,
+}
+
+impl Spec {
+    /// Lets the row return NaN and infinities where ggx-core does ([`Contract::Ieee`]).
+    fn ieee(&mut self) -> &mut Self {
+        self.contract = Contract::Ieee;
+        self
+    }
+}
+
+#[derive(Default)]
+struct Specs(Vec<Spec>);
+
+impl Specs {
+    /// Adds a row held to [`Contract::Finite`]: `cpu` gives ggx-core's outputs for each case.
+    fn row<I, F>(&mut self, name: &'static str, bound: Bound, cases: I, cpu: F) -> &mut Spec
+    where
+        I: IntoIterator<Item = (Input, GgxConductor)>,
+        F: Fn(&Input, &GgxConductor) -> Vec<Expect>,
+    {
+        let (cases, bsdfs): (Vec<Input>, Vec<GgxConductor>) = cases.into_iter().unzip();
+        let expect = cases.iter().zip(&bsdfs).map(|(i, k)| cpu(i, k)).collect();
+        self.0.push(Spec { name, bound, contract: Contract::Finite, cases, bsdfs, expect });
+        self.0.last_mut().expect("just pushed")
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Input tables
+// ---------------------------------------------------------------------------------------------
+
+pub(super) const NAN: f32 = f32::NAN;
+pub(super) const INF: f32 = f32::INFINITY;
+/// `1 - 2^-24` (0x3f7fffff), the largest u a sampler accepts.
+const ONE_MINUS_ULP: f32 = math::ONE_MINUS_EPSILON;
+
+/// Special scalars: NaN, infinities, signed zeros, subnormals, the smallest normal, tiny,
+/// unit-interval edges, large.
+const SPECIALS: [f32; 22] = [
+    NAN,
+    INF,
+    -INF,
+    -1.0,
+    -1e-30,
+    -1e-45,
+    -0.0,
+    0.0,
+    1e-40,
+    f32::MIN_POSITIVE,
+    1e-30,
+    1e-7,
+    0.25,
+    0.5,
+    ONE_MINUS_ULP,
+    1.0,
+    1.000_000_1,
+    1.5,
+    3.0,
+    1e30,
+    f32::MAX,
+    -f32::MAX,
+];
+
+fn scalars() -> Vec<f32> {
+    let sweep = (-80..=80).flat_map(|e| {
+        let x = 1.37 * 2f32.powf(e as f32 * 0.5);
+        [x, -x]
+    });
+    SPECIALS.into_iter().chain(sweep).collect()
+}
+
+/// Cosines from normal incidence down to 1e-7, exactly grazing and below the horizon.
+const COS: [f64; 19] = [
+    1.0,
+    0.999_999_94,
+    0.999_995,
+    0.99,
+    0.9,
+    0.7,
+    0.5,
+    0.3,
+    0.1,
+    1e-2,
+    1e-3,
+    1e-4,
+    1e-5,
+    1e-6,
+    1e-7,
+    0.0,
+    -1e-7,
+    -0.3,
+    -1.0,
+];
+const COS_FEW: [f64; 9] = [1.0, 0.9, 0.5, 0.1, 1e-3, 1e-5, 1e-7, 0.0, -0.5];
+const PHI: [f64; 6] = [0.0, 0.7, std::f64::consts::FRAC_PI_2, 2.3, std::f64::consts::PI, -1.2];
+
+/// Unit vector at `cos theta`, `phi`, rounded from f64.
+fn spherical(cos: f64, phi: f64) -> Vec3 {
+    let sin = (1.0 - cos * cos).max(0.0).sqrt();
+    Vec3::new((sin * phi.cos()) as f32, (sin * phi.sin()) as f32, cos as f32)
+}
+
+/// Zero, NaN and infinite components, non-unit vectors, vectors whose squared length
+/// underflows or overflows, and vectors just inside and outside normalize_or_zero's
+/// idempotence band.
+fn odd_directions() -> Vec<Vec3> {
+    let v = Vec3::new(0.6, 0.0, 0.8);
+    vec![
+        Vec3::ZERO,
+        Vec3::new(NAN, 0.0, 1.0),
+        Vec3::new(0.0, 0.0, NAN),
+        Vec3::new(INF, 0.0, 1.0),
+        Vec3::new(0.0, 0.0, INF),
+        Vec3::new(0.0, -INF, 1.0),
+        Vec3::new(0.3, -0.4, 1.2),
+        Vec3::new(-2.0, 1.0, 0.5),
+        Vec3::new(1e-20, 0.0, 1e-20),
+        Vec3::new(1e20, 0.0, 1e20),
+        v * (1.0 + 0.9e-6),
+        v * (1.0 + 1.5e-6),
+        v * (1.0 + 3e-6),
+    ]
+}
+
+fn directions() -> Vec<Vec3> {
+    let grid = COS.iter().flat_map(|&c| PHI.iter().map(move |&p| spherical(c, p)));
+    grid.chain(odd_directions()).collect()
+}
+
+fn few_directions() -> Vec<Vec3> {
+    let grid = COS_FEW.iter().flat_map(|&c| [0.0, 2.3, -1.2].map(|p| spherical(c, p)));
+    grid.chain(odd_directions().into_iter().take(8).skip(1).step_by(2)).chain([Vec3::ZERO]).collect()
+}
+
+/// Outgoing directions for the samplers.
+fn wo_directions() -> Vec<Vec3> {
+    let cos = [1.0, 0.999_999_94, 0.999_995, 0.9, 0.5, 0.1, 1e-3, 1e-5, 1e-7, 0.0, -0.5];
+    let grid = cos.into_iter().flat_map(|c| [0.0, 2.3].map(|p| spherical(c, p)));
+    grid.chain([
+        Vec3::new(NAN, 0.0, 1.0),
+        Vec3::new(0.0, 0.0, INF),
+        Vec3::new(0.3, -0.4, 1.2),
+        Vec3::new(1e-20, 0.0, 1e-20),
+    ])
+    .collect()
+}
+
+const U: [f32; 8] = [0.0, 1e-7, 0.13, 0.25, 0.5, 0.77, 0.999, ONE_MINUS_ULP];
+const U_ODD: [(f32, f32); 10] = [
+    (NAN, 0.3),
+    (0.3, NAN),
+    (INF, 0.3),
+    (0.3, -INF),
+    (-0.5, 0.3),
+    (0.3, 1.0),
+    (1.0, 1.0),
+    (2.0, 0.6),
+    (0.6, 2.0),
+    (NAN, NAN),
+];
+
+/// Random numbers for the samplers: a grid including 0 and 1 - ulp, plus NaN, infinities,
+/// negative values, 1 and above.
+fn us(grid: &[f32]) -> Vec<Vec2> {
+    let grid = grid.iter().flat_map(|&x| grid.iter().map(move |&y| Vec2::new(x, y)));
+    grid.chain(U_ODD.map(|(x, y)| Vec2::new(x, y))).collect()
+}
+
+/// Raw alpha pairs (the constructor clamps them): zero and NaN (-> ALPHA_MIN), 1e-4 .. 1e-3 and
+/// both sides of DELTA_ALPHA, rough, above one, anisotropic up to 1:100.
+const ALPHAS: [(f32, f32); 18] = [
+    (0.0, 0.0),
+    (1e-4, 1e-4),
+    (3e-4, 3e-4),
+    (9.99e-4, 9.99e-4),
+    (1e-3, 1e-3),
+    (0.01, 0.01),
+    (0.1, 0.1),
+    (0.3, 0.3),
+    (0.7, 0.7),
+    (1.0, 1.0),
+    (1.5, 1.5),
+    (NAN, NAN),
+    (0.01, 1.0),
+    (1.0, 0.01),
+    (1e-4, 1e-2),
+    (3e-3, 0.3),
+    (0.5, 0.005),
+    (0.05, 0.2),
+];
+
+fn dists() -> Vec<TrowbridgeReitz> {
+    ALPHAS.iter().map(|&(x, y)| TrowbridgeReitz::new(x, y)).collect()
+}
+
+fn with_dist(distribution: TrowbridgeReitz) -> GgxConductor {
+    GgxConductor { distribution, ..GgxConductor::zeroed() }
+}
+
+/// Every Fresnel kind, physical and degenerate parameters, and an unknown kind.
+fn fresnels() -> Vec<FresnelParams> {
+    let gold = Fresnel::Conductor { eta: Vec3::new(0.143, 0.374, 1.442), k: Vec3::new(3.983, 2.385, 1.603) };
+    let odd_conductor = Fresnel::Conductor { eta: Vec3::new(0.0, 1.0, NAN), k: Vec3::new(0.0, 0.0, 1.0) };
+    let unknown = FresnelParams { kind: 7, ..Fresnel::Schlick { f0: Vec3::splat(0.5) }.into() };
+    [
+        Fresnel::One,
+        Fresnel::Schlick { f0: Vec3::splat(0.04) },
+        Fresnel::SchlickF90 { f0: Vec3::new(1.0, 0.78, 0.34), f90: Vec3::new(1.0, 0.95, 0.9) },
+        gold,
+        odd_conductor,
+        Fresnel::Dielectric { eta: 1.5 },
+        Fresnel::Dielectric { eta: 1.0 / 1.5 },
+        Fresnel::Dielectric { eta: NAN },
+    ]
+    .into_iter()
+    .map(FresnelParams::from)
+    .chain([unknown])
+    .collect()
+}
+
+/// BRDFs for the conductor rows: the alpha edge cases with Fresnel models in turn, and every
+/// Fresnel model at alpha 0.3.
+fn bsdfs() -> Vec<GgxConductor> {
+    let alphas = [
+        (0.0, 0.0),
+        (5e-4, 5e-4),
+        (1e-3, 1e-3),
+        (0.01, 0.01),
+        (0.3, 0.3),
+        (1.0, 1.0),
+        (0.01, 1.0),
+        (0.5, 0.005),
+        (1e-4, 1e-2),
+    ];
+    let fresnel = fresnels();
+    let edge = alphas.iter().enumerate().map(|(i, &(x, y))| (x, y, fresnel[i % fresnel.len()]));
+    let models = fresnel.iter().map(|&f| (0.3, 0.3, f));
+    edge.chain(models)
+        .map(|(x, y, fresnel)| GgxConductor { distribution: TrowbridgeReitz::new(x, y), pad: [0; 2], fresnel })
+        .collect()
+}
+
+/// Cosines for the Fresnel formulas: both sides of zero, grazing, one and beyond, NaN, infinities.
+const FRESNEL_COS: [f32; 21] = [
+    -1.0,
+    -0.7,
+    -0.2,
+    -1e-7,
+    -0.0,
+    0.0,
+    1e-7,
+    1e-3,
+    0.1,
+    0.3,
+    0.5,
+    0.7,
+    0.9,
+    0.999,
+    ONE_MINUS_ULP,
+    1.0,
+    1.0001,
+    2.0,
+    NAN,
+    INF,
+    -INF,
+];
+
+/// Sampling techniques: every discriminant and an unknown one (read as VNDF).
+const SAMPLINGS: [u32; 7] = [0, 1, 2, 3, 4, 5, 9];
+
+/// Edge words and pseudo-random words (SplitMix32-style, independent of the hashes under test).
+fn u32s(count: u32) -> Vec<u32> {
+    let edges = [0, 1, 2, 3, 255, 256, 0x7fff_ffff, 0x8000_0000, 0xdead_beef, u32::MAX - 1, u32::MAX];
+    let random = (0..count).map(|i| {
+        let mut z = i.wrapping_mul(0x9e37_79b9).wrapping_add(0x6a09_e667);
+        z = (z ^ (z >> 16)).wrapping_mul(0x85eb_ca6b);
+        z = (z ^ (z >> 13)).wrapping_mul(0xc2b2_ae35);
+        z ^ (z >> 16)
+    });
+    edges.into_iter().chain(random).collect()
+}
+
+fn none() -> GgxConductor {
+    GgxConductor::zeroed()
+}
+
+// ---------------------------------------------------------------------------------------------
+// The rows
+// ---------------------------------------------------------------------------------------------
+
+/// The words of `ggx_conductor_sample`'s output for ggx-core's `sample`.
+fn sample_words(sample: Option<ggx_core::BsdfSample>) -> Vec<Expect> {
+    let b = sample.unwrap_or(ggx_core::BsdfSample { wi: Vec3::ZERO, weight: Vec3::ZERO, pdf: 0.0, is_delta: false });
+    let mut e = words(&[sample.is_some() as u32, b.is_delta as u32]);
+    e.extend(floats(&[b.wi.x, b.wi.y, b.wi.z, b.weight.x, b.weight.y, b.weight.z, b.pdf]));
+    e
+}
+
+/// Bound for outputs that are a few correctly rounded operations on the CPU and may be a few
+/// operations of Vulkan precision (division and sqrt within 2.5-3 ulp) with FMA contraction on
+/// the GPU.
+const FEW_OPS: Bound = Bound::ulps(4);
+/// Bound for longer formulas (ratios of sums of products).
+const FORMULA: Bound = Bound::ulps(16);
+/// Bound for unit vectors and values in [-1, 1] whose components cancel (cross products,
+/// `1 - p1^2 - p2^2`, half vectors at grazing angles): 16 ulp, or 2^-20 (8 ulp of one).
+const UNIT: Bound = Bound::mixed(16, 1.0 / 1_048_576.0);
+
+pub(super) fn specs() -> Vec<Spec> {
+    let mut s = Specs::default();
+    let scalar_cases = || scalars().into_iter().map(|x| (Input::scalar(x), none()));
+
+    // math.rs
+    // Every row is held to Contract::Finite (ggx-core documents finite outputs and its
+    // tests/robustness.rs checks them) except the four marked `ieee()`: safe_sqrt(+inf) and
+    // pdf_cosine_hemisphere at w.z = +inf are +inf, lambda is +inf at grazing, and sincos_2pi
+    // propagates NaN.
+    s.row("safe_sqrt", FEW_OPS, scalar_cases(), |i, _| floats(&[math::safe_sqrt(i.a[0])])).ieee();
+    s.row("finite_or_zero", Bound::EXACT, scalar_cases(), |i, _| floats(&[math::finite_or_zero(i.a[0])]));
+    s.row("sanitize_u", Bound::EXACT, scalar_cases(), |i, _| floats(&[math::sanitize_u(i.a[0])]));
+    let pairs = || {
+        let xs = SPECIALS;
+        xs.into_iter().flat_map(move |x| {
+            xs.into_iter().map(move |y| (Input { a: [x, y, 0.0, 0.0], ..Default::default() }, none()))
+        })
+    };
+    s.row("sanitize_u2", Bound::EXACT, pairs(), |i, _| {
+        let u = math::sanitize_u2(Vec2::new(i.a[0], i.a[1]));
+        floats(&[u.x, u.y])
+    });
+    s.row(
+        "normalize_or_zero",
+        UNIT,
+        directions()
+            .into_iter()
+            .map(|d| (Input::dir(d * 1.7), none()))
+            .chain(directions().into_iter().map(|d| (Input::dir(d), none()))),
+        |i, _| floats(&v3(math::normalize_or_zero(i.va()))),
+    );
+    let sincos_u = (0..=4096).map(|k| k as f32 / 4096.0).chain([
+        ONE_MINUS_ULP,
+        0.125 - 1e-8,
+        0.125 + 1e-8,
+        0.375,
+        0.625,
+        0.875,
+        -0.3,
+        -1.0,
+        1.3,
+        2.0,
+    ]);
+    s.row("sincos_2pi", UNIT, sincos_u.map(|u| (Input::scalar(u), none())), |i, _| {
+        let (sin, cos) = math::sincos_2pi(i.a[0]);
+        floats(&[sin, cos])
+    })
+    .ieee();
+
+    // alpha.rs
+    s.row("clamp_alpha", Bound::EXACT, scalar_cases(), |i, _| floats(&[alpha::clamp_alpha(i.a[0])]));
+    s.row("roughness_to_alpha", Bound::EXACT, scalar_cases(), |i, _| floats(&[alpha::roughness_to_alpha(i.a[0])]));
+    s.row("alpha_to_roughness", FEW_OPS, scalar_cases(), |i, _| floats(&[alpha::alpha_to_roughness(i.a[0])]));
+
+    // distribution.rs
+    let alpha_pairs =
+        scalars().into_iter().step_by(3).flat_map(|x| scalars().into_iter().step_by(5).map(move |y| (x, y)));
+    s.row(
+        "trowbridge_reitz_new",
+        Bound::EXACT,
+        alpha_pairs.map(|(x, y)| (Input { a: [x, y, 0.0, 0.0], ..Default::default() }, none())),
+        |i, _| {
+            let t = TrowbridgeReitz::new(i.a[0], i.a[1]);
+            let mut e = floats(&[t.alpha_x, t.alpha_y]);
+            e.extend(words(&[t.is_isotropic() as u32, t.is_effectively_smooth() as u32]));
+            e
+        },
+    );
+    let dist_dir =
+        || dists().into_iter().flat_map(|t| directions().into_iter().map(move |w| (Input::dir(w), with_dist(t))));
+    let dist_pair = || {
+        dists().into_iter().flat_map(|t| {
+            few_directions()
+                .into_iter()
+                .flat_map(move |a| few_directions().into_iter().map(move |b| (Input::pair(a, b), with_dist(t))))
+        })
+    };
+    s.row("d", FORMULA, dist_dir(), |i, k| floats(&[k.distribution.d(i.va())]));
+    s.row("lambda", FORMULA, dist_dir(), |i, k| floats(&[k.distribution.lambda(i.va())])).ieee();
+    s.row("g1", FORMULA, dist_dir(), |i, k| floats(&[k.distribution.g1(i.va())]));
+    s.row("g2", FORMULA, dist_pair(), |i, k| floats(&[k.distribution.g2(i.va(), i.vb())]));
+    s.row("g2_separable", FORMULA, dist_pair(), |i, k| floats(&[k.distribution.g2_separable(i.va(), i.vb())]));
+    s.row("d_visible", FORMULA, dist_pair(), |i, k| floats(&[k.distribution.d_visible(i.va(), i.vb())]));
+
+    // Samplers and their densities.
+    let dist_u = || {
+        dists().into_iter().flat_map(|t| us(&U).into_iter().map(move |u| (Input::dir_u(Vec3::ZERO, u), with_dist(t))))
+    };
+    let dist_wo_u = || {
+        dists().into_iter().flat_map(|t| {
+            wo_directions()
+                .into_iter()
+                .flat_map(move |wo| us(&U).into_iter().map(move |u| (Input::dir_u(wo, u), with_dist(t))))
+        })
+    };
+    s.row("sample_wm_ndf", UNIT, dist_u(), |i, k| floats(&v3(k.distribution.sample_wm_ndf(i.u()))));
+    s.row("pdf_wm_ndf", FORMULA, dist_dir(), |i, k| floats(&[k.distribution.pdf_wm_ndf(i.va())]));
+    s.row("sample_wm_vndf", UNIT, dist_wo_u(), |i, k| floats(&v3(k.distribution.sample_wm_vndf(i.va(), i.u()))));
+    s.row("sample_wm_spherical_caps", UNIT, dist_wo_u(), |i, k| {
+        floats(&v3(k.distribution.sample_wm_spherical_caps(i.va(), i.u())))
+    });
+    s.row("bounded_k", FORMULA, dist_dir(), |i, k| floats(&[k.distribution.bounded_k(i.va())]));
+    s.row("sample_wm_bounded", UNIT, dist_wo_u(), |i, k| floats(&v3(k.distribution.sample_wm_bounded(i.va(), i.u()))));
+    s.row("pdf_wi_bounded", FORMULA, dist_pair(), |i, k| floats(&[k.distribution.pdf_wi_bounded(i.va(), i.vb())]));
+
+    // warp.rs
+    let u_cases = || us(&U).into_iter().map(|u| (Input::dir_u(Vec3::ZERO, u), none()));
+    let dir_cases = || directions().into_iter().map(|w| (Input::dir(w), none()));
+    s.row("sample_cosine_hemisphere", UNIT, u_cases(), |i, _| floats(&v3(warp::sample_cosine_hemisphere(i.u()))));
+    s.row("pdf_cosine_hemisphere", FEW_OPS, dir_cases(), |i, _| floats(&[warp::pdf_cosine_hemisphere(i.va())])).ieee();
+    s.row("sample_uniform_hemisphere", UNIT, u_cases(), |i, _| floats(&v3(warp::sample_uniform_hemisphere(i.u()))));
+    s.row("pdf_uniform_hemisphere", Bound::EXACT, dir_cases(), |i, _| floats(&[warp::pdf_uniform_hemisphere(i.va())]));
+
+    // fresnel/
+    let colours = [
+        (Vec3::splat(0.04), Vec3::ONE),
+        (Vec3::new(1.0, 0.78, 0.34), Vec3::new(1.0, 0.95, 0.9)),
+        (Vec3::ZERO, Vec3::ZERO),
+        (Vec3::new(NAN, -1.0, 2.0), Vec3::new(1.0, INF, 0.5)),
+        // f90 - f0 overflows to +inf from finite parameters (times m^5 = 0 at cos >= 1: NaN).
+        (Vec3::new(-f32::MAX, 0.5, -INF), Vec3::new(f32::MAX, -f32::MAX, INF)),
+    ];
+    let schlick = FRESNEL_COS
+        .into_iter()
+        .flat_map(|c| colours.map(move |(f0, f90)| (Input { c: [c, 0.0, 0.0, 0.0], ..Input::pair(f0, f90) }, none())));
+    s.row("fresnel_schlick", FEW_OPS, schlick, |i, _| floats(&v3(fresnel_schlick(i.c[0], i.va(), i.vb()))));
+    let etas = [1.5, 1.0 / 1.5, 1.0, 1.33, 2.4, 1e-3, 1e3, 0.0, -1.0, NAN, INF];
+    let dielectric = FRESNEL_COS
+        .into_iter()
+        .flat_map(|c| etas.map(move |eta| (Input { c: [c, eta, 0.0, 0.0], ..Default::default() }, none())));
+    s.row("fresnel_dielectric", FORMULA, dielectric, |i, _| floats(&[fresnel_dielectric(i.c[0], i.c[1])]));
+    let iors = [
+        (0.143, 3.983),
+        (0.2, 3.9),
+        (1.5, 0.0),
+        (0.0, 0.0),
+        (0.0, 1.0),
+        (1.0, 0.0),
+        (2.9, 3.0),
+        (NAN, 1.0),
+        (1.0, NAN),
+        (INF, 1.0),
+    ];
+    let complex = FRESNEL_COS
+        .into_iter()
+        .flat_map(|c| iors.map(move |(eta, k)| (Input { c: [c, eta, k, 0.0], ..Default::default() }, none())));
+    s.row("fresnel_complex", FORMULA, complex, |i, _| floats(&[fresnel_complex(i.c[0], i.c[1], i.c[2])]));
+    let params = FRESNEL_COS.into_iter().flat_map(|c| {
+        fresnels().into_iter().map(move |fresnel| {
+            (Input { c: [c, 0.0, 0.0, 0.0], ..Default::default() }, GgxConductor { fresnel, ..none() })
+        })
+    });
+    s.row("fresnel_params_eval", FORMULA, params, |i, k| floats(&v3(k.fresnel.eval(i.c[0]))));
+
+    // conductor.rs
+    let pair_bsdf = || {
+        bsdfs().into_iter().flat_map(|k| {
+            few_directions().into_iter().flat_map(move |a| few_directions().into_iter().map(move |b| (a, b, k)))
+        })
+    };
+    s.row("ggx_conductor_eval", FORMULA, pair_bsdf().map(|(a, b, k)| (Input::pair(a, b), k)), |i, k| {
+        floats(&v3(k.eval(i.va(), i.vb())))
+    });
+    let pdf_cases =
+        pair_bsdf().flat_map(|(a, b, k)| SAMPLINGS.map(|t| (Input { n: [t, 0, 0, 0], ..Input::pair(a, b) }, k)));
+    s.row("ggx_conductor_pdf", FORMULA, pdf_cases, |i, k| floats(&[k.pdf(i.va(), i.vb(), Sampling::from_u32(i.n[0]))]));
+    let few_u = us(&[0.0, 0.25, 0.5, 0.77, ONE_MINUS_ULP]);
+    let sample_cases = bsdfs().into_iter().flat_map(|k| {
+        let few_u = few_u.clone();
+        wo_directions().into_iter().flat_map(move |wo| {
+            let few_u = few_u.clone();
+            SAMPLINGS.into_iter().flat_map(move |t| {
+                few_u.clone().into_iter().map(move |u| (Input { n: [t, 0, 0, 0], ..Input::dir_u(wo, u) }, k))
+            })
+        })
+    });
+    s.row("ggx_conductor_sample", UNIT, sample_cases, |i, k| {
+        sample_words(k.sample(i.va(), i.u(), Sampling::from_u32(i.n[0])))
+    });
+
+    // mis.rs
+    let pdfs = [0.0, -1.0, NAN, INF, -INF, f32::MAX, f32::MIN_POSITIVE, 1e-30, 0.5, 1.0, 3.0, 1e30];
+    // Counts 0, NaN and +inf against densities +inf and 0: the products 0 inf that ggx-core
+    // sanitizes to 0 instead of NaN.
+    let counts = [1.0, 2.0, 0.0, 0.5, NAN, INF, f32::MAX];
+    let mis_cases = || {
+        counts.into_iter().flat_map(move |nf| {
+            pdfs.into_iter().flat_map(move |f| {
+                counts.into_iter().flat_map(move |ng| {
+                    pdfs.into_iter().map(move |g| (Input { c: [nf, f, ng, g], ..Default::default() }, none()))
+                })
+            })
+        })
+    };
+    s.row("balance_heuristic", FEW_OPS, mis_cases(), |i, _| {
+        floats(&[mis::balance_heuristic(i.c[0], i.c[1], i.c[2], i.c[3])])
+    });
+    s.row("power_heuristic", FEW_OPS, mis_cases(), |i, _| {
+        floats(&[mis::power_heuristic(i.c[0], i.c[1], i.c[2], i.c[3])])
+    });
+
+    // frame.rs
+    s.row("frame_from_z", UNIT, dir_cases().chain([(Input::dir(Vec3::new(1e-20, -1e-20, -1.0)), none())]), |i, _| {
+        let f = Frame::from_z(i.va());
+        floats(&[f.x.to_array(), f.y.to_array(), f.z.to_array()].concat())
+    });
+    // Vectors with NaN and infinite components (in few_directions) and finite ones whose
+    // image overflows.
+    let frame_vectors =
+        || few_directions().into_iter().chain([Vec3::splat(f32::MAX), Vec3::new(1e38, -3e38, 2e38), Vec3::splat(NAN)]);
+    let frame_cases = || {
+        few_directions().into_iter().flat_map(move |n| {
+            let f = Frame::from_z(n);
+            frame_vectors().map(move |v| {
+                let input = Input {
+                    a: f.x.extend(v.x).to_array(),
+                    b: f.y.extend(v.y).to_array(),
+                    c: f.z.extend(v.z).to_array(),
+                    ..Default::default()
+                };
+                (input, none())
+            })
+        })
+    };
+    fn frame(i: &Input) -> Frame {
+        Frame { x: i.va(), y: i.vb(), z: i.vc() }
+    }
+    fn v(i: &Input) -> Vec3 {
+        Vec3::new(i.a[3], i.b[3], i.c[3])
+    }
+    s.row("frame_to_local", UNIT, frame_cases(), |i, _| floats(&v3(frame(i).to_local(v(i)))));
+    s.row("frame_to_world", UNIT, frame_cases(), |i, _| floats(&v3(frame(i).to_world(v(i)))));
+    let reflect_cases =
+        few_directions().into_iter().flat_map(|a| directions().into_iter().map(move |b| (Input::pair(a, b), none())));
+    s.row("reflect", UNIT, reflect_cases, |i, _| floats(&v3(reflect(i.va(), i.vb()))));
+
+    // sequence/: bit-identical.
+    let w = u32s(4000);
+    let w2 = || u32s(60).into_iter().flat_map(|a| u32s(60).into_iter().map(move |b| (a, b)));
+    let word_cases = |ns: Vec<[u32; 4]>| ns.into_iter().map(|n| (Input::words(n), none()));
+    s.row("hash_u32", Bound::EXACT, word_cases(w.iter().map(|&x| [x, 0, 0, 0]).collect()), |i, _| {
+        words(&[seq::hash_u32(i.n[0])])
+    });
+    s.row("hash_combine", Bound::EXACT, word_cases(w2().map(|(a, b)| [a, b, 0, 0]).collect()), |i, _| {
+        words(&[seq::hash_combine(i.n[0], i.n[1])])
+    });
+    s.row("u32_to_unit_f32", Bound::EXACT, word_cases(w.iter().map(|&x| [x, 0, 0, 0]).collect()), |i, _| {
+        words(&[seq::u32_to_unit_f32(i.n[0]).to_bits()])
+    });
+    s.row("counter_rng_new", Bound::EXACT, word_cases(w2().map(|(a, b)| [a, b, 0, 0]).collect()), |i, _| {
+        let r = CounterRng::new(i.n[0], i.n[1]);
+        words(&[r.key, r.counter])
+    });
+    let rng_cases = || {
+        word_cases(
+            u32s(30)
+                .into_iter()
+                .flat_map(|key| u32s(30).into_iter().map(move |c| [key, c, c ^ 0x5555_5555, 0]))
+                .collect(),
+        )
+    };
+    s.row("counter_rng_get_u32", Bound::EXACT, rng_cases(), |i, _| {
+        words(&[CounterRng { key: i.n[0], counter: i.n[1] }.get_u32(i.n[2])])
+    });
+    s.row("counter_rng_next_u32", Bound::EXACT, rng_cases(), |i, _| {
+        let mut r = CounterRng { key: i.n[0], counter: i.n[1] };
+        let (x, y) = (r.next_u32(), r.next_u32());
+        words(&[x, y, r.counter])
+    });
+    s.row("counter_rng_next_f32", Bound::EXACT, rng_cases(), |i, _| {
+        let mut r = CounterRng { key: i.n[0], counter: i.n[1] };
+        words(&[r.next_f32().to_bits(), r.counter])
+    });
+    s.row("counter_rng_next_vec2", Bound::EXACT, rng_cases(), |i, _| {
+        let mut r = CounterRng { key: i.n[0], counter: i.n[1] };
+        let v = r.next_vec2();
+        words(&[v.x.to_bits(), v.y.to_bits(), r.counter])
+    });
+    s.row("counter_rng_advance", Bound::EXACT, rng_cases(), |i, _| {
+        let mut r = CounterRng { key: i.n[0], counter: i.n[1] };
+        r.advance(i.n[2]);
+        words(&[r.counter, r.next_u32()])
+    });
+    let dims = [0, 1, 2, 3, 4, 5, 6, 7, 8, 13, 0x8000_0001, u32::MAX];
+    let sobol_cases = (0..1024).chain(u32s(500)).flat_map(|i| dims.map(|d| [i, d, 0, 0])).collect();
+    s.row("sobol", Bound::EXACT, word_cases(sobol_cases), |i, _| words(&[seq::sobol(i.n[0], i.n[1])]));
+    s.row("owen_scramble", Bound::EXACT, word_cases(w2().map(|(a, b)| [a, b, 0, 0]).collect()), |i, _| {
+        words(&[seq::owen_scramble(i.n[0], i.n[1])])
+    });
+    s.row("shuffle_index_reversed", Bound::EXACT, word_cases(w2().map(|(a, b)| [a, b, 0, 0]).collect()), |i, _| {
+        words(&[seq::shuffle_index_reversed(i.n[0], i.n[1])])
+    });
+    let shuffled_cases =
+        u32s(40).into_iter().flat_map(|r| u32s(6).into_iter().flat_map(move |g| dims.map(|d| [r, g, d, 0])));
+    s.row("sobol_owen_shuffled", Bound::EXACT, word_cases(shuffled_cases.collect()), |i, _| {
+        words(&[seq::sobol_owen_shuffled(i.n[0], i.n[1], i.n[2])])
+    });
+    let owen_cases = || {
+        let seeds = [0, 7, 0xdead_beef, u32::MAX];
+        word_cases(
+            (0..256)
+                .chain(u32s(200))
+                .flat_map(|i| dims.into_iter().flat_map(move |d| seeds.map(|s| [i, d, s, 0])))
+                .collect(),
+        )
+    };
+    s.row("sobol_owen_u32", Bound::EXACT, owen_cases(), |i, _| words(&[seq::sobol_owen_u32(i.n[0], i.n[1], i.n[2])]));
+    s.row("sobol_owen", Bound::EXACT, owen_cases(), |i, _| words(&[seq::sobol_owen(i.n[0], i.n[1], i.n[2]).to_bits()]));
+    let new_cases = [0, 1].into_iter().flat_map(|kind| {
+        u32s(12).into_iter().flat_map(move |seed| u32s(12).into_iter().map(move |p| [kind, seed, p, p ^ seed]))
+    });
+    s.row("sample_stream_new", Bound::EXACT, word_cases(new_cases.collect()), |i, _| {
+        let st = SampleStream::new(SequenceKind::from_u32(i.n[0]), i.n[1], i.n[2], i.n[3]);
+        words(&[st.kind, st.seed, st.sample_index, st.dimension])
+    });
+    let stream_cases = || {
+        let dims = [0, 1, 2, 3, 4, 5, 6, 7, 9, u32::MAX - 2, u32::MAX - 1, u32::MAX];
+        let streams = [0, 1, 7].into_iter().flat_map(|kind| {
+            u32s(8).into_iter().flat_map(move |seed| u32s(8).into_iter().map(move |sample| (kind, seed, sample)))
+        });
+        let cases = streams.flat_map(move |(kind, seed, sample)| {
+            dims.map(|d| Input { n: [kind, seed, sample, d], m: [d ^ 1, 0, 0, 0], ..Default::default() })
+        });
+        cases.map(|i| (i, none())).collect::<Vec<_>>()
+    };
+    fn stream(i: &Input) -> SampleStream {
+        SampleStream { kind: i.n[0], seed: i.n[1], sample_index: i.n[2], dimension: i.n[3] }
+    }
+    s.row("sample_stream_get_u32", Bound::EXACT, stream_cases(), |i, _| words(&[stream(i).get_u32(i.m[0])]));
+    s.row("sample_stream_next_1d", Bound::EXACT, stream_cases(), |i, _| {
+        let mut st = stream(i);
+        let (x, y) = (st.next_1d(), st.next_1d());
+        words(&[x.to_bits(), y.to_bits(), st.dimension])
+    });
+    s.row("sample_stream_next_2d", Bound::EXACT, stream_cases(), |i, _| {
+        let mut st = stream(i);
+        let (p, q) = (st.next_2d(), st.next_2d());
+        words(&[p.x.to_bits(), p.y.to_bits(), q.x.to_bits(), q.y.to_bits(), st.dimension])
+    });
+
+    // Layout: every word of the uploaded GgxConductor read back field by field.
+    let mut odd = bsdfs();
+    odd.push(GgxConductor { pad: [0xdead_beef, 0x0bad_cafe], ..odd[3] });
+    s.row("ggx_conductor_layout", Bound::EXACT, odd.into_iter().map(|k| (Input::default(), k)), |_, k| {
+        words(bytemuck::cast_slice::<GgxConductor, u32>(std::slice::from_ref(k)))
+    });
+    s.0
+}

@@ -1,0 +1,967 @@
+// ggx_core.wgsl: the WGSL twin of the `ggx-core` crate, one function per Rust function.
+//
+// Naming: free functions keep their Rust names; methods of `TrowbridgeReitz` keep their bare
+// names (`d`, `lambda`, `g1`, ...) and take the distribution first; methods of the other types
+// are prefixed with the type in snake_case (`ggx_conductor_eval`, `counter_rng_next_u32`).
+// `Option<BsdfSample>` becomes `BsdfSample` with a `valid` flag, `Sampling` and `SequenceKind`
+// are their `u32` discriminants.
+//
+// NaN: WGSL's `max`, `min` and `clamp` are undefined for NaN operands (SPIR-V FMax/FMin), so
+// every Rust `f32::max` / `f32::min` is spelled `max_num` / `min_num` (IEEE 754 maxNum/minNum:
+// a NaN operand is ignored). NaN and infinity are detected from the bit pattern, never by
+// comparisons that a compiler might fold. The arithmetic itself is assumed to follow IEEE 754
+// (inf and NaN propagate, division by zero gives inf), which the parity harness checks on the
+// adapter it runs on.
+//
+// Layout: `TrowbridgeReitz` (8 bytes), `FresnelParams` (48), `GgxConductor` (64), `CounterRng`
+// (8) and `SampleStream` (16) match the Rust `#[repr(C)]` structs byte for byte. `Frame` and
+// `BsdfSample` are values only (the Rust `Frame` packs three 12-byte `Vec3`s).
+
+// ---------------------------------------------------------------------------------------------
+// Constants
+// ---------------------------------------------------------------------------------------------
+
+const PI: f32 = 3.14159265358979323846264338327950288f;
+const TAU: f32 = 6.28318530717958647692528676655900577f;
+const FRAC_1_PI: f32 = 0.318309886183790671537767526745028724f;
+// The largest f32 below one, 1 - 2^-24 (0x3f7fffff).
+const ONE_MINUS_EPSILON: f32 = 0.99999994f;
+
+const ALPHA_MIN: f32 = 1e-4f;
+const ALPHA_MAX: f32 = 1.0f;
+const DELTA_ALPHA: f32 = 1e-3f;
+
+// `ggx_core::Sampling` discriminants.
+const SAMPLING_NDF: u32 = 0u;
+const SAMPLING_VNDF: u32 = 1u;
+const SAMPLING_SPHERICAL_CAPS: u32 = 2u;
+const SAMPLING_BOUNDED: u32 = 3u;
+const SAMPLING_COSINE: u32 = 4u;
+const SAMPLING_UNIFORM: u32 = 5u;
+
+// `ggx_core::fresnel::kind` values.
+const FRESNEL_KIND_ONE: u32 = 0u;
+const FRESNEL_KIND_SCHLICK: u32 = 1u;
+const FRESNEL_KIND_CONDUCTOR: u32 = 2u;
+const FRESNEL_KIND_DIELECTRIC: u32 = 3u;
+
+// `ggx_core::SequenceKind` discriminants.
+const SEQUENCE_INDEPENDENT: u32 = 0u;
+const SEQUENCE_SOBOL: u32 = 1u;
+
+const SOBOL_DIMENSIONS: u32 = 4u;
+
+// ---------------------------------------------------------------------------------------------
+// Types
+// ---------------------------------------------------------------------------------------------
+
+struct TrowbridgeReitz {
+    alpha_x: f32,
+    alpha_y: f32,
+}
+
+struct FresnelParams {
+    kind: u32,
+    eta: f32,
+    pad: vec2<u32>,
+    a: vec4<f32>,
+    b: vec4<f32>,
+}
+
+struct GgxConductor {
+    distribution: TrowbridgeReitz,
+    pad: vec2<u32>,
+    fresnel: FresnelParams,
+}
+
+struct BsdfSample {
+    wi: vec3<f32>,
+    weight: vec3<f32>,
+    pdf: f32,
+    is_delta: u32,
+    // 1 where the Rust `sample` returns `Some`, 0 (and every other field zero) for `None`.
+    valid: u32,
+}
+
+struct Frame {
+    x: vec3<f32>,
+    y: vec3<f32>,
+    z: vec3<f32>,
+}
+
+struct Complex {
+    re: f32,
+    im: f32,
+}
+
+struct CounterRng {
+    key: u32,
+    counter: u32,
+}
+
+struct SampleStream {
+    kind: u32,
+    seed: u32,
+    sample_index: u32,
+    dimension: u32,
+}
+
+// ---------------------------------------------------------------------------------------------
+// IEEE helpers (what Rust's f32 methods and glam's Vec3 do)
+// ---------------------------------------------------------------------------------------------
+
+// f32::is_nan: exponent all ones and a non-zero mantissa (bit test, immune to fast-math).
+fn is_nan(x: f32) -> bool {
+    return (bitcast<u32>(x) & 0x7fffffffu) > 0x7f800000u;
+}
+
+// f32::is_finite: exponent not all ones.
+fn is_finite(x: f32) -> bool {
+    return (bitcast<u32>(x) & 0x7f800000u) != 0x7f800000u;
+}
+
+// Vec3::is_finite: every component finite.
+fn is_finite3(v: vec3<f32>) -> bool {
+    return is_finite(v.x) && is_finite(v.y) && is_finite(v.z);
+}
+
+// v if every component is finite, else 0 (frame.rs `finite_or_zero3`).
+fn finite_or_zero3(v: vec3<f32>) -> vec3<f32> {
+    return select(vec3(0.0), v, is_finite3(v));
+}
+
+// f32::INFINITY, built at run time (a constant infinity is a WGSL shader-creation error).
+fn inf_f32() -> f32 {
+    var bits = 0x7f800000u;
+    return bitcast<f32>(bits);
+}
+
+// f32::max = IEEE maxNum: the larger operand, a NaN operand ignored.
+fn max_num(a: f32, b: f32) -> f32 {
+    return select(b, a, a > b || is_nan(b));
+}
+
+// f32::min = IEEE minNum: the smaller operand, a NaN operand ignored.
+fn min_num(a: f32, b: f32) -> f32 {
+    return select(b, a, a < b || is_nan(b));
+}
+
+// f32::copysign: magnitude of x, sign bit of s.
+fn copysign(x: f32, s: f32) -> f32 {
+    return bitcast<f32>((bitcast<u32>(x) & 0x7fffffffu) | (bitcast<u32>(s) & 0x80000000u));
+}
+
+// Vec3::dot = (x x') + (y y') + (z z'), in glam's order.
+fn dot3(a: vec3<f32>, b: vec3<f32>) -> f32 {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
+// Vec3::cross = (y z' - y' z, z x' - z' x, x y' - x' y), in glam's order.
+fn cross3(a: vec3<f32>, b: vec3<f32>) -> vec3<f32> {
+    return vec3(a.y * b.z - b.y * a.z, a.z * b.x - b.z * a.x, a.x * b.y - b.x * a.y);
+}
+
+// ---------------------------------------------------------------------------------------------
+// math.rs
+// ---------------------------------------------------------------------------------------------
+
+// sqrt(max(x, 0)), NaN -> 0.
+fn safe_sqrt(x: f32) -> f32 {
+    return sqrt(max_num(x, 0.0));
+}
+
+// x if finite, else 0.
+fn finite_or_zero(x: f32) -> f32 {
+    return select(0.0, x, is_finite(x));
+}
+
+// clamp(u, 0, 1 - 2^-24), NaN -> 0.
+fn sanitize_u(u: f32) -> f32 {
+    return min_num(max_num(u, 0.0), ONE_MINUS_EPSILON);
+}
+
+// sanitize_u on both components.
+fn sanitize_u2(u: vec2<f32>) -> vec2<f32> {
+    return vec2(sanitize_u(u.x), sanitize_u(u.y));
+}
+
+// v / |v|; v unchanged when |len2 - 1| <= 2e-6 (idempotent); 0 for zero, tiny or non-finite v.
+fn normalize_or_zero(v: vec3<f32>) -> vec3<f32> {
+    let len2 = dot3(v, v);
+    if abs(len2 - 1.0) <= 2e-6f {
+        return v;
+    } else if len2 > 1e-30f && is_finite(len2) {
+        return v * (1.0 / sqrt(len2));
+    }
+    return vec3(0.0);
+}
+
+// (sin 2 pi u, cos 2 pi u): nearest quarter turn, Taylor polynomials of degree 9 and 8 on [-pi/4, pi/4].
+fn sincos_2pi(u: f32) -> vec2<f32> {
+    let q = i32(u * 4.0 + 0.5);
+    let r = u - f32(q) * 0.25;
+    let x = r * TAU;
+    let x2 = x * x;
+    let s = x * (1.0 + x2 * (-1.0f / 6.0f + x2 * (1.0f / 120.0f + x2 * (-1.0f / 5040.0f + x2 * (1.0f / 362880.0f)))));
+    let c = 1.0 + x2 * (-0.5f + x2 * (1.0f / 24.0f + x2 * (-1.0f / 720.0f + x2 * (1.0f / 40320.0f))));
+    let quadrant = q & 3;
+    let ab = select(vec2(s, c), vec2(c, s), (quadrant & 1) != 0);
+    let sin = select(ab.x, -ab.x, (quadrant & 2) != 0);
+    let cos = select(ab.y, -ab.y, ((quadrant + 1) & 2) != 0);
+    return vec2(sin, cos);
+}
+
+// ---------------------------------------------------------------------------------------------
+// alpha.rs
+// ---------------------------------------------------------------------------------------------
+
+// clamp(alpha, ALPHA_MIN, ALPHA_MAX), NaN -> ALPHA_MIN.
+fn clamp_alpha(alpha: f32) -> f32 {
+    return min_num(max_num(alpha, ALPHA_MIN), ALPHA_MAX);
+}
+
+// alpha = clamp(roughness, 0, 1)^2, Burley 2012.
+fn roughness_to_alpha(roughness: f32) -> f32 {
+    let r = min_num(max_num(roughness, 0.0), 1.0);
+    return r * r;
+}
+
+// roughness = sqrt(clamp(alpha, 0, 1)).
+fn alpha_to_roughness(alpha: f32) -> f32 {
+    return safe_sqrt(min_num(max_num(alpha, 0.0), 1.0));
+}
+
+// ---------------------------------------------------------------------------------------------
+// distribution.rs: TrowbridgeReitz
+// ---------------------------------------------------------------------------------------------
+
+// TrowbridgeReitz::new: both alphas clamped to [ALPHA_MIN, ALPHA_MAX].
+fn trowbridge_reitz_new(alpha_x: f32, alpha_y: f32) -> TrowbridgeReitz {
+    return TrowbridgeReitz(clamp_alpha(alpha_x), clamp_alpha(alpha_y));
+}
+
+// alpha_x == alpha_y enables the isotropic fast paths.
+fn is_isotropic(dist: TrowbridgeReitz) -> bool {
+    return dist.alpha_x == dist.alpha_y;
+}
+
+// Mirror lobe: max(alpha_x, alpha_y) < DELTA_ALPHA (pbrt-v4, Bevy).
+fn is_effectively_smooth(dist: TrowbridgeReitz) -> bool {
+    return max_num(dist.alpha_x, dist.alpha_y) < DELTA_ALPHA;
+}
+
+// ax^2 x^2 + ay^2 y^2.
+fn alpha2_xy(dist: TrowbridgeReitz, w: vec3<f32>) -> f32 {
+    if is_isotropic(dist) {
+        return dist.alpha_x * dist.alpha_x * (w.x * w.x + w.y * w.y);
+    }
+    let x = dist.alpha_x * w.x;
+    let y = dist.alpha_y * w.y;
+    return x * x + y * y;
+}
+
+// |(ax x, ay y, z)|, never below |z|.
+fn stretched_len(dist: TrowbridgeReitz, w: vec3<f32>) -> f32 {
+    return max_num(sqrt(w.z * w.z + alpha2_xy(dist, w)), abs(w.z));
+}
+
+// D(wm) = 1 / (pi ax ay (x^2/ax^2 + y^2/ay^2 + z^2)^2), 0 for z <= 0; Walter et al. 2007 eq. 33.
+fn d(dist: TrowbridgeReitz, wm: vec3<f32>) -> f32 {
+    if !(wm.z > 0.0) {
+        return 0.0;
+    }
+    var t: f32;
+    if is_isotropic(dist) {
+        t = (wm.x * wm.x + wm.y * wm.y) / (dist.alpha_x * dist.alpha_x) + wm.z * wm.z;
+    } else {
+        let x = wm.x / dist.alpha_x;
+        let y = wm.y / dist.alpha_y;
+        t = x * x + y * y + wm.z * wm.z;
+    }
+    return finite_or_zero(1.0 / (PI * dist.alpha_x * dist.alpha_y * t * t));
+}
+
+// Lambda(w) = q / (2 (1 + sqrt(1 + q))), q = (ax^2 x^2 + ay^2 y^2) / z^2; +inf at z = 0; Heitz 2014 eq. 86.
+fn lambda(dist: TrowbridgeReitz, w: vec3<f32>) -> f32 {
+    let q = alpha2_xy(dist, w) / (w.z * w.z);
+    if is_nan(q) {
+        return 0.0;
+    }
+    let inf = inf_f32();
+    if q == inf {
+        return inf;
+    }
+    return q / (2.0 * (1.0 + sqrt(1.0 + q)));
+}
+
+// G1(w) = 2 |z| / (|z| + |(ax x, ay y, z)|), Smith masking.
+fn g1(dist: TrowbridgeReitz, w: vec3<f32>) -> f32 {
+    let z = abs(w.z);
+    return min_num(finite_or_zero(2.0 * z / (z + stretched_len(dist, w))), 1.0);
+}
+
+// G2 = 2 |zo| |zi| / (|zi| so + |zo| si), height-correlated; Heitz 2014 eq. 99.
+fn g2(dist: TrowbridgeReitz, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
+    let zo = abs(wo.z);
+    let zi = abs(wi.z);
+    let den = zi * stretched_len(dist, wo) + zo * stretched_len(dist, wi);
+    return min_num(finite_or_zero(2.0 * zo * zi / den), 1.0);
+}
+
+// G2 = G1(wo) G1(wi), separable (Mitsuba 3).
+fn g2_separable(dist: TrowbridgeReitz, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
+    return g1(dist, wo) * g1(dist, wi);
+}
+
+// D_w(wm) = 2 D(wm) max(0, w.wm) / (w.z + s(w)), 0 for w.z <= 0; Heitz 2014 eq. 2.
+fn d_visible(dist: TrowbridgeReitz, w: vec3<f32>, wm: vec3<f32>) -> f32 {
+    if !(w.z > 0.0) {
+        return 0.0;
+    }
+    let cos = max_num(dot3(w, wm), 0.0);
+    return finite_or_zero(2.0 * d(dist, wm) * cos / (w.z + stretched_len(dist, w)));
+}
+
+// ---------------------------------------------------------------------------------------------
+// sample_ndf.rs, sample_vndf.rs, sample_spherical_caps.rs, sample_bounded.rs
+// ---------------------------------------------------------------------------------------------
+
+// wm = normalize(ax sqrt(u0) cos phi, ay sqrt(u0) sin phi, sqrt(1 - u0)), phi = 2 pi u1; Walter et al. 2007 eq. 35-36.
+fn sample_wm_ndf(dist: TrowbridgeReitz, u_in: vec2<f32>) -> vec3<f32> {
+    let u = sanitize_u2(u_in);
+    let r = safe_sqrt(u.x);
+    let sc = sincos_2pi(u.y);
+    return normalize_or_zero(vec3(dist.alpha_x * r * sc.y, dist.alpha_y * r * sc.x, safe_sqrt(1.0 - u.x)));
+}
+
+// p(wm) = D(wm) max(0, wm.z), 0 when not finite.
+fn pdf_wm_ndf(dist: TrowbridgeReitz, wm: vec3<f32>) -> f32 {
+    return finite_or_zero(d(dist, wm) * max_num(wm.z, 0.0));
+}
+
+// Stretch wo, warp a disk sample onto the projected hemisphere, unstretch; Heitz 2018 listing 1.
+fn sample_wm_vndf(dist: TrowbridgeReitz, wo: vec3<f32>, u_in: vec2<f32>) -> vec3<f32> {
+    if !(wo.z > 0.0) {
+        return vec3(0.0);
+    }
+    let u = sanitize_u2(u_in);
+    let vh = normalize_or_zero(vec3(dist.alpha_x * wo.x, dist.alpha_y * wo.y, wo.z));
+    // Basis around vh, Heitz 2018's rule: t1 = (-vh.y, vh.x, 0) / |vh.xy|, X only when vh is
+    // exactly the normal (no pbrt-v4 `vh.z >= 0.99999` shortcut).
+    let lensq = vh.x * vh.x + vh.y * vh.y;
+    var t1 = vec3(1.0, 0.0, 0.0);
+    if lensq > 0.0 {
+        t1 = vec3(-vh.y, vh.x, 0.0) * (1.0 / sqrt(lensq));
+    }
+    let t2 = cross3(vh, t1);
+    let r = safe_sqrt(u.x);
+    let sc = sincos_2pi(u.y);
+    let p1 = r * sc.y;
+    let s = 0.5 * (1.0 + vh.z);
+    let p2 = (1.0 - s) * safe_sqrt(1.0 - p1 * p1) + s * (r * sc.x);
+    let nh = p1 * t1 + p2 * t2 + safe_sqrt(1.0 - p1 * p1 - p2 * p2) * vh;
+    return normalize_or_zero(vec3(dist.alpha_x * nh.x, dist.alpha_y * nh.y, max_num(nh.z, 0.0)));
+}
+
+// Uniform point on the cap z in [-lower, 1] plus vh, unstretched; Dupuy & Benyoub 2023.
+// t = (1 - u1)(1 + lower), z = t - lower; h = (sin_theta cos_phi + vh.x, sin_theta sin_phi + vh.y,
+// t + (vh.z - lower)): h.z = z + vh.z without the cancellation as u1 -> 1 (exactly t for caps).
+fn sample_cap(dist: TrowbridgeReitz, vh: vec3<f32>, lower: f32, u_in: vec2<f32>) -> vec3<f32> {
+    let u = sanitize_u2(u_in);
+    let sc = sincos_2pi(u.x);
+    let t = (1.0 - u.y) * (1.0 + lower);
+    let z = t - lower;
+    let sin_theta = safe_sqrt(1.0 - z * z);
+    let h = vec3(sin_theta * sc.y + vh.x, sin_theta * sc.x + vh.y, t + (vh.z - lower));
+    return normalize_or_zero(vec3(dist.alpha_x * h.x, dist.alpha_y * h.y, max_num(h.z, 0.0)));
+}
+
+// Visible normals from the spherical cap z in [-vh.z, 1]; Dupuy & Benyoub 2023 listing 3.
+fn sample_wm_spherical_caps(dist: TrowbridgeReitz, wo: vec3<f32>, u: vec2<f32>) -> vec3<f32> {
+    if !(wo.z > 0.0) {
+        return vec3(0.0);
+    }
+    let vh = normalize_or_zero(vec3(dist.alpha_x * wo.x, dist.alpha_y * wo.y, wo.z));
+    return sample_cap(dist, vh, vh.z, u);
+}
+
+// k = (1 - a^2) s^2 / (s^2 + a^2 wo.z^2), a = min(ax, ay), s = 1 + |wo.xy|; Eto & Tokuyoshi 2023 eq. 5.
+fn bounded_k(dist: TrowbridgeReitz, wo: vec3<f32>) -> f32 {
+    let a = min_num(dist.alpha_x, dist.alpha_y);
+    let a2 = a * a;
+    let s = 1.0 + sqrt(wo.x * wo.x + wo.y * wo.y);
+    let s2 = s * s;
+    return finite_or_zero((1.0 - a2) * s2 / (s2 + a2 * wo.z * wo.z));
+}
+
+// Spherical cap with lower bound -k vh.z; Eto & Tokuyoshi 2023 listing 1.
+fn sample_wm_bounded(dist: TrowbridgeReitz, wo: vec3<f32>, u: vec2<f32>) -> vec3<f32> {
+    if !(wo.z > 0.0) {
+        return vec3(0.0);
+    }
+    let vh = normalize_or_zero(vec3(dist.alpha_x * wo.x, dist.alpha_y * wo.y, wo.z));
+    return sample_cap(dist, vh, bounded_k(dist, wo) * vh.z, u);
+}
+
+// p(wi) = D(wm) / (2 (k wo.z + |(ax wo.x, ay wo.y, wo.z)|)), 0 for wo.z <= 0; Eto & Tokuyoshi 2023 eq. 8.
+fn pdf_wi_bounded(dist: TrowbridgeReitz, wo: vec3<f32>, wm: vec3<f32>) -> f32 {
+    if !(wo.z > 0.0) {
+        return 0.0;
+    }
+    return finite_or_zero(d(dist, wm) / (2.0 * (bounded_k(dist, wo) * wo.z + stretched_len(dist, wo))));
+}
+
+// ---------------------------------------------------------------------------------------------
+// warp.rs
+// ---------------------------------------------------------------------------------------------
+
+// (sqrt(u0) cos 2 pi u1, sqrt(u0) sin 2 pi u1, sqrt(1 - u0)), Malley's method.
+fn sample_cosine_hemisphere(u_in: vec2<f32>) -> vec3<f32> {
+    let u = sanitize_u2(u_in);
+    let r = safe_sqrt(u.x);
+    let sc = sincos_2pi(u.y);
+    return vec3(r * sc.y, r * sc.x, safe_sqrt(1.0 - u.x));
+}
+
+// p(w) = max(0, w.z) / pi.
+fn pdf_cosine_hemisphere(w: vec3<f32>) -> f32 {
+    return select(0.0, w.z * FRAC_1_PI, w.z > 0.0);
+}
+
+// z = 1 - u0, phi = 2 pi u1.
+fn sample_uniform_hemisphere(u_in: vec2<f32>) -> vec3<f32> {
+    let u = sanitize_u2(u_in);
+    let z = 1.0 - u.x;
+    let r = safe_sqrt(1.0 - z * z);
+    let sc = sincos_2pi(u.y);
+    return vec3(r * sc.y, r * sc.x, z);
+}
+
+// p(w) = 1 / (2 pi) for w.z > 0.
+fn pdf_uniform_hemisphere(w: vec3<f32>) -> f32 {
+    return select(0.0, 0.5f / PI, w.z > 0.0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// fresnel/complex.rs
+// ---------------------------------------------------------------------------------------------
+
+// a + b.
+fn complex_add(a: Complex, b: Complex) -> Complex {
+    return Complex(a.re + b.re, a.im + b.im);
+}
+
+// a - b.
+fn complex_sub(a: Complex, b: Complex) -> Complex {
+    return Complex(a.re - b.re, a.im - b.im);
+}
+
+// a b = (ar br - ai bi) + i (ar bi + ai br).
+fn complex_mul(a: Complex, b: Complex) -> Complex {
+    return Complex(a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re);
+}
+
+// a / b = a conj(b) / |b|^2.
+fn complex_div(a: Complex, b: Complex) -> Complex {
+    let scale = 1.0 / (b.re * b.re + b.im * b.im);
+    return Complex((a.re * b.re + a.im * b.im) * scale, (a.im * b.re - a.re * b.im) * scale);
+}
+
+// |z|^2.
+fn complex_norm(z: Complex) -> f32 {
+    return z.re * z.re + z.im * z.im;
+}
+
+// Principal root: t1 = sqrt((|z| + |re|) / 2), t2 = im / (2 t1); Press et al. 5.4.
+fn complex_sqrt(z: Complex) -> Complex {
+    let n = sqrt(complex_norm(z));
+    if n == 0.0 {
+        return Complex(0.0, 0.0);
+    }
+    let t1 = sqrt(0.5 * (n + abs(z.re)));
+    let t2 = 0.5 * z.im / t1;
+    if z.re >= 0.0 {
+        return Complex(t1, t2);
+    }
+    return Complex(abs(t2), copysign(t1, z.im));
+}
+
+// ---------------------------------------------------------------------------------------------
+// fresnel/formulas.rs, fresnel/mod.rs
+// ---------------------------------------------------------------------------------------------
+
+// F = f0 + (f90 - f0) (1 - cos)^5, cos clamped to [0, 1], each component 0 when not finite;
+// Schlick 1994, Burley 2012.
+fn fresnel_schlick(cos_theta: f32, f0: vec3<f32>, f90: vec3<f32>) -> vec3<f32> {
+    let m = 1.0 - min_num(max_num(cos_theta, 0.0), 1.0);
+    let m2 = m * m;
+    let f = f0 + (f90 - f0) * (m2 * m2 * m);
+    return vec3(finite_or_zero(f.x), finite_or_zero(f.y), finite_or_zero(f.z));
+}
+
+// F = (r_par^2 + r_perp^2) / 2, inside flips eta, TIR -> 1; pbrt-v4 FrDielectric.
+fn fresnel_dielectric(cos_theta_i: f32, eta_in: f32) -> f32 {
+    if !(eta_in > 0.0) || !is_finite(eta_in) {
+        return 1.0;
+    }
+    var cos_i = min_num(max_num(cos_theta_i, -1.0), 1.0);
+    var eta = eta_in;
+    if cos_i < 0.0 {
+        eta = 1.0 / eta;
+        cos_i = -cos_i;
+    }
+    let sin2_i = 1.0 - cos_i * cos_i;
+    let sin2_t = sin2_i / (eta * eta);
+    if sin2_t >= 1.0 {
+        return 1.0;
+    }
+    let cos_t = safe_sqrt(1.0 - sin2_t);
+    let r_par = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    let r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    let f = 0.5 * (r_par * r_par + r_perp * r_perp);
+    return select(f, 1.0, is_nan(f));
+}
+
+// F = (|r_par|^2 + |r_perp|^2) / 2 for complex eta + i k, cos clamped to [0, 1]; pbrt-v4 FrComplex.
+fn fresnel_complex(cos_theta_i: f32, eta_re: f32, k: f32) -> f32 {
+    let cos_i = min_num(max_num(cos_theta_i, 0.0), 1.0);
+    let eta = Complex(eta_re, k);
+    let sin2_i = 1.0 - cos_i * cos_i;
+    let sin2_t = complex_div(Complex(sin2_i, 0.0), complex_mul(eta, eta));
+    let cos_t = complex_sqrt(complex_sub(Complex(1.0, 0.0), sin2_t));
+    let ci = Complex(cos_i, 0.0);
+    let r_par = complex_div(complex_sub(complex_mul(eta, ci), cos_t), complex_add(complex_mul(eta, ci), cos_t));
+    let r_perp = complex_div(complex_sub(ci, complex_mul(eta, cos_t)), complex_add(ci, complex_mul(eta, cos_t)));
+    let f = 0.5 * (complex_norm(r_par) + complex_norm(r_perp));
+    return select(f, 1.0, is_nan(f));
+}
+
+// clamp(x, 0, 1), NaN -> 0 (fresnel/mod.rs `unit`).
+fn fresnel_unit(x: f32) -> f32 {
+    return min_num(max_num(x, 0.0), 1.0);
+}
+
+// FresnelParams::eval: the model selected by `kind` (unknown -> One), clamped to [0, 1].
+fn fresnel_params_eval(params: FresnelParams, cos_theta: f32) -> vec3<f32> {
+    var f = vec3(1.0);
+    switch params.kind {
+        case FRESNEL_KIND_SCHLICK: {
+            f = fresnel_schlick(cos_theta, params.a.xyz, params.b.xyz);
+        }
+        case FRESNEL_KIND_CONDUCTOR: {
+            f = vec3(
+                fresnel_complex(cos_theta, params.a.x, params.b.x),
+                fresnel_complex(cos_theta, params.a.y, params.b.y),
+                fresnel_complex(cos_theta, params.a.z, params.b.z),
+            );
+        }
+        case FRESNEL_KIND_DIELECTRIC: {
+            f = vec3(fresnel_dielectric(cos_theta, params.eta));
+        }
+        default: {}
+    }
+    return vec3(fresnel_unit(f.x), fresnel_unit(f.y), fresnel_unit(f.z));
+}
+
+// ---------------------------------------------------------------------------------------------
+// conductor.rs: GgxConductor
+// ---------------------------------------------------------------------------------------------
+
+// 2 (|wi.z| s(wo) + |wo.z| s(wi)) = 4 zo zi / G2.
+fn g2_denominator(dist: TrowbridgeReitz, wo: vec3<f32>, wi: vec3<f32>, so: f32) -> f32 {
+    return 2.0 * (wi.z * so + wo.z * stretched_len(dist, wi));
+}
+
+// Mirror lobe: both alphas below DELTA_ALPHA.
+fn ggx_conductor_is_delta(bsdf: GgxConductor) -> bool {
+    return is_effectively_smooth(bsdf.distribution);
+}
+
+// f |wi.z| = F(wo.wm) D(wm) |wi.z| / (2 (|wi.z| so + |wo.z| si)); Cook-Torrance, Heitz 2014.
+fn ggx_conductor_eval(bsdf: GgxConductor, wo_in: vec3<f32>, wi_in: vec3<f32>) -> vec3<f32> {
+    let wo = normalize_or_zero(wo_in);
+    let wi = normalize_or_zero(wi_in);
+    if !(wo.z > 0.0 && wi.z > 0.0) || ggx_conductor_is_delta(bsdf) {
+        return vec3(0.0);
+    }
+    let wm = normalize_or_zero(wo + wi);
+    let dist = bsdf.distribution;
+    let so = stretched_len(dist, wo);
+    let f = d(dist, wm) * wi.z / g2_denominator(dist, wo, wi, so);
+    return fresnel_params_eval(bsdf.fresnel, dot3(wo, wm)) * finite_or_zero(f);
+}
+
+// Solid-angle density of `ggx_conductor_sample` for the technique (unknown -> VNDF).
+fn ggx_conductor_pdf(bsdf: GgxConductor, wo_in: vec3<f32>, wi_in: vec3<f32>, sampling: u32) -> f32 {
+    let wo = normalize_or_zero(wo_in);
+    let wi = normalize_or_zero(wi_in);
+    if !(wo.z > 0.0 && wi.z > 0.0) || ggx_conductor_is_delta(bsdf) {
+        return 0.0;
+    }
+    let dist = bsdf.distribution;
+    let wm = normalize_or_zero(wo + wi);
+    var pdf: f32;
+    switch sampling {
+        case SAMPLING_NDF: {
+            pdf = pdf_wm_ndf(dist, wm) / (4.0 * dot3(wo, wm));
+        }
+        case SAMPLING_BOUNDED: {
+            pdf = pdf_wi_bounded(dist, wo, wm);
+        }
+        case SAMPLING_COSINE: {
+            pdf = pdf_cosine_hemisphere(wi);
+        }
+        case SAMPLING_UNIFORM: {
+            pdf = pdf_uniform_hemisphere(wi);
+        }
+        default: {
+            pdf = d(dist, wm) / (2.0 * (wo.z + stretched_len(dist, wo)));
+        }
+    }
+    return finite_or_zero(pdf);
+}
+
+// Draws wi for wo; weights in closed form (VNDF F G2 / G1, bounded F zi (k zo + so) / (zi so + zo si), NDF F G2 |wo.wm| / (zo wm.z)).
+fn ggx_conductor_sample(bsdf: GgxConductor, wo_in: vec3<f32>, u_in: vec2<f32>, sampling: u32) -> BsdfSample {
+    var none: BsdfSample;
+    let wo = normalize_or_zero(wo_in);
+    if !(wo.z > 0.0) {
+        return none;
+    }
+    let u = sanitize_u2(u_in);
+    if ggx_conductor_is_delta(bsdf) {
+        let weight = fresnel_params_eval(bsdf.fresnel, wo.z);
+        return BsdfSample(vec3(-wo.x, -wo.y, wo.z), weight, 1.0, 1u, 1u);
+    }
+    let dist = bsdf.distribution;
+    var wi: vec3<f32>;
+    var pdf: f32;
+    var weight: vec3<f32>;
+    if sampling == SAMPLING_COSINE || sampling == SAMPLING_UNIFORM {
+        if sampling == SAMPLING_COSINE {
+            wi = sample_cosine_hemisphere(u);
+        } else {
+            wi = sample_uniform_hemisphere(u);
+        }
+        pdf = ggx_conductor_pdf(bsdf, wo, wi, sampling);
+        weight = ggx_conductor_eval(bsdf, wo, wi) / pdf;
+    } else {
+        var wm: vec3<f32>;
+        switch sampling {
+            case SAMPLING_NDF: {
+                wm = sample_wm_ndf(dist, u);
+            }
+            case SAMPLING_SPHERICAL_CAPS: {
+                wm = sample_wm_spherical_caps(dist, wo, u);
+            }
+            case SAMPLING_BOUNDED: {
+                wm = sample_wm_bounded(dist, wo, u);
+            }
+            default: {
+                wm = sample_wm_vndf(dist, wo, u);
+            }
+        }
+        if !(dot3(wo, wm) > 0.0) {
+            return none;
+        }
+        wi = normalize_or_zero(reflect(wo, wm));
+        if !(wi.z > 0.0) {
+            return none;
+        }
+        // Weight and pdf from the half vector of the returned pair (see conductor.rs).
+        let wh = normalize_or_zero(wo + wi);
+        let cos_om = dot3(wo, wh);
+        let so = stretched_len(dist, wo);
+        let denom = g2_denominator(dist, wo, wi, so);
+        var scale: f32;
+        switch sampling {
+            case SAMPLING_NDF: {
+                pdf = pdf_wm_ndf(dist, wh) / (4.0 * cos_om);
+                scale = 4.0 * wi.z * cos_om / (wh.z * denom);
+            }
+            case SAMPLING_BOUNDED: {
+                let c = bounded_k(dist, wo) * wo.z + so;
+                pdf = d(dist, wh) / (2.0 * c);
+                scale = min_num(2.0 * wi.z * c / denom, 1.0);
+            }
+            default: {
+                pdf = d(dist, wh) / (2.0 * (wo.z + so));
+                scale = min_num(2.0 * wi.z * (wo.z + so) / denom, 1.0);
+            }
+        }
+        weight = fresnel_params_eval(bsdf.fresnel, cos_om) * scale;
+    }
+    if !(pdf > 0.0 && is_finite(pdf) && is_finite3(weight)) {
+        return none;
+    }
+    return BsdfSample(wi, weight, pdf, 0u, 1u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// mis.rs
+// ---------------------------------------------------------------------------------------------
+
+// max(pdf, 0), NaN -> 0.
+fn mis_sanitize(pdf: f32) -> f32 {
+    return max_num(pdf, 0.0);
+}
+
+// Weight of the smaller of two densities from r = small / large: r / (1 + r) or r^2 / (1 + r^2).
+fn mis_small_over_large(r: f32, power: bool) -> f32 {
+    if power {
+        let r2 = r * r;
+        return r2 / (1.0 + r2);
+    }
+    return r / (1.0 + r);
+}
+
+// Weight of f against g: infinite densities win (two share 0.5), ratios formed before squaring.
+fn mis_heuristic(f: f32, g: f32, power: bool) -> f32 {
+    let inf = inf_f32();
+    if f == inf {
+        return select(1.0, 0.5, g == inf);
+    }
+    if g == inf || f <= 0.0 {
+        return 0.0;
+    }
+    if f >= g {
+        return 1.0 - mis_small_over_large(g / f, power);
+    }
+    return mis_small_over_large(f / g, power);
+}
+
+// w = nf pf / (nf pf + ng pg); Veach 1997 eq. 9.10. Each product is sanitized again, so 0 inf
+// (an unused technique with a delta density) counts as 0, not NaN.
+fn balance_heuristic(nf: f32, f_pdf: f32, ng: f32, g_pdf: f32) -> f32 {
+    let f = mis_sanitize(mis_sanitize(nf) * mis_sanitize(f_pdf));
+    let g = mis_sanitize(mis_sanitize(ng) * mis_sanitize(g_pdf));
+    return mis_heuristic(f, g, false);
+}
+
+// w = (nf pf)^2 / ((nf pf)^2 + (ng pg)^2); Veach 1997 eq. 9.13. Products sanitized as above.
+fn power_heuristic(nf: f32, f_pdf: f32, ng: f32, g_pdf: f32) -> f32 {
+    let f = mis_sanitize(mis_sanitize(nf) * mis_sanitize(f_pdf));
+    let g = mis_sanitize(mis_sanitize(ng) * mis_sanitize(g_pdf));
+    return mis_heuristic(f, g, true);
+}
+
+// ---------------------------------------------------------------------------------------------
+// frame.rs
+// ---------------------------------------------------------------------------------------------
+
+// s = sign(n.z), a = -1 / (s + n.z), b = n.x n.y a; Duff et al. 2017 (JCGT 6(1)). Degenerate n -> +z.
+fn frame_from_z(n_in: vec3<f32>) -> Frame {
+    var n = normalize_or_zero(n_in);
+    if all(n == vec3(0.0)) {
+        n = vec3(0.0, 0.0, 1.0);
+    }
+    let sign = copysign(1.0, n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    return Frame(vec3(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x), vec3(b, sign + n.y * n.y * a, -n.y), n);
+}
+
+// (v.x, v.y, v.z) in the frame's coordinates; 0 when a component is not finite.
+fn frame_to_local(frame: Frame, v: vec3<f32>) -> vec3<f32> {
+    return finite_or_zero3(vec3(dot3(v, frame.x), dot3(v, frame.y), dot3(v, frame.z)));
+}
+
+// x v.x + y v.y + z v.z; 0 when a component is not finite.
+fn frame_to_world(frame: Frame, v: vec3<f32>) -> vec3<f32> {
+    return finite_or_zero3(frame.x * v.x + frame.y * v.y + frame.z * v.z);
+}
+
+// 2 (wo.n) n - wo, 0 when a component is not finite (shadows WGSL's builtin `reflect`, which
+// mirrors an incident vector instead).
+fn reflect(wo: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    return finite_or_zero3(2.0 * dot3(wo, n) * n - wo);
+}
+
+// ---------------------------------------------------------------------------------------------
+// sequence/hash.rs
+// ---------------------------------------------------------------------------------------------
+
+// x ^= x >> 16; x *= 0x7feb352d; x ^= x >> 15; x *= 0x846ca68b; x ^= x >> 16 (Wellons 2018, lowbias32).
+fn hash_u32(x_in: u32) -> u32 {
+    var x = x_in;
+    x ^= x >> 16u;
+    x *= 0x7feb352du;
+    x ^= x >> 15u;
+    x *= 0x846ca68bu;
+    x ^= x >> 16u;
+    return x;
+}
+
+// h(a ^ h(a ^ b ^ 0x9e3779b9)), h = lowbias32 (Wellons 2018; Boost golden-ratio offset).
+fn hash_combine(a: u32, b: u32) -> u32 {
+    return hash_u32(a ^ hash_u32(a ^ b ^ 0x9e3779b9u));
+}
+
+// u = floor(x / 2^8) 2^-24: exact 24-bit fixed point, never 1.
+fn u32_to_unit_f32(x: u32) -> f32 {
+    return f32(x >> 8u) * (1.0 / 16777216.0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// sequence/counter.rs: CounterRng
+// ---------------------------------------------------------------------------------------------
+
+// key = hash_combine(seed, stream), counter 0 (Salmon et al. 2011).
+fn counter_rng_new(seed: u32, stream: u32) -> CounterRng {
+    return CounterRng(hash_combine(seed, stream), 0u);
+}
+
+// x_n = hash_combine(key, n).
+fn counter_rng_get_u32(rng: CounterRng, counter: u32) -> u32 {
+    return hash_combine(rng.key, counter);
+}
+
+// x = hash_combine(key, counter); counter += 1 mod 2^32.
+fn counter_rng_next_u32(rng: ptr<function, CounterRng>) -> u32 {
+    let x = counter_rng_get_u32(*rng, (*rng).counter);
+    (*rng).counter += 1u;
+    return x;
+}
+
+// u = u32_to_unit_f32(next_u32).
+fn counter_rng_next_f32(rng: ptr<function, CounterRng>) -> f32 {
+    return u32_to_unit_f32(counter_rng_next_u32(rng));
+}
+
+// (next_f32, next_f32), x drawn before y.
+fn counter_rng_next_vec2(rng: ptr<function, CounterRng>) -> vec2<f32> {
+    let x = counter_rng_next_f32(rng);
+    let y = counter_rng_next_f32(rng);
+    return vec2(x, y);
+}
+
+// counter += delta mod 2^32.
+fn counter_rng_advance(rng: ptr<function, CounterRng>, delta: u32) {
+    (*rng).counter += delta;
+}
+
+// ---------------------------------------------------------------------------------------------
+// sequence/sobol.rs
+// ---------------------------------------------------------------------------------------------
+
+// Direction words of Sobol' dimensions 0..4 (van der Corput, then Joe & Kuo new-joe-kuo-6.21201),
+// copied from ggx_core::sequence::SOBOL_DIRECTIONS (a test checks this text).
+const SOBOL_DIRECTIONS: array<array<u32, 32>, 4> = array<array<u32, 32>, 4>(
+    array<u32, 32>(
+        0x80000000u, 0x40000000u, 0x20000000u, 0x10000000u, 0x08000000u, 0x04000000u, 0x02000000u, 0x01000000u,
+        0x00800000u, 0x00400000u, 0x00200000u, 0x00100000u, 0x00080000u, 0x00040000u, 0x00020000u, 0x00010000u,
+        0x00008000u, 0x00004000u, 0x00002000u, 0x00001000u, 0x00000800u, 0x00000400u, 0x00000200u, 0x00000100u,
+        0x00000080u, 0x00000040u, 0x00000020u, 0x00000010u, 0x00000008u, 0x00000004u, 0x00000002u, 0x00000001u,
+    ),
+    array<u32, 32>(
+        0x80000000u, 0xc0000000u, 0xa0000000u, 0xf0000000u, 0x88000000u, 0xcc000000u, 0xaa000000u, 0xff000000u,
+        0x80800000u, 0xc0c00000u, 0xa0a00000u, 0xf0f00000u, 0x88880000u, 0xcccc0000u, 0xaaaa0000u, 0xffff0000u,
+        0x80008000u, 0xc000c000u, 0xa000a000u, 0xf000f000u, 0x88008800u, 0xcc00cc00u, 0xaa00aa00u, 0xff00ff00u,
+        0x80808080u, 0xc0c0c0c0u, 0xa0a0a0a0u, 0xf0f0f0f0u, 0x88888888u, 0xccccccccu, 0xaaaaaaaau, 0xffffffffu,
+    ),
+    array<u32, 32>(
+        0x80000000u, 0xc0000000u, 0x60000000u, 0x90000000u, 0xe8000000u, 0x5c000000u, 0x8e000000u, 0xc5000000u,
+        0x68800000u, 0x9cc00000u, 0xee600000u, 0x55900000u, 0x80680000u, 0xc09c0000u, 0x60ee0000u, 0x90550000u,
+        0xe8808000u, 0x5cc0c000u, 0x8e606000u, 0xc5909000u, 0x6868e800u, 0x9c9c5c00u, 0xeeee8e00u, 0x5555c500u,
+        0x8000e880u, 0xc0005cc0u, 0x60008e60u, 0x9000c590u, 0xe8006868u, 0x5c009c9cu, 0x8e00eeeeu, 0xc5005555u,
+    ),
+    array<u32, 32>(
+        0x80000000u, 0xc0000000u, 0x20000000u, 0x50000000u, 0xf8000000u, 0x74000000u, 0xa2000000u, 0x93000000u,
+        0xd8800000u, 0x25400000u, 0x59e00000u, 0xe6d00000u, 0x78080000u, 0xb40c0000u, 0x82020000u, 0xc3050000u,
+        0x208f8000u, 0x51474000u, 0xfbea2000u, 0x75d93000u, 0xa0858800u, 0x914e5400u, 0xdbe79e00u, 0x25db6d00u,
+        0x58800080u, 0xe54000c0u, 0x79e00020u, 0xb6d00050u, 0x800800f8u, 0xc00c0074u, 0x200200a2u, 0x50050093u,
+    ),
+);
+
+// XOR of table[j] over the set bits j of bits.
+fn xor_set_bits(dim: u32, bits_in: u32) -> u32 {
+    var x = 0u;
+    var bits = bits_in;
+    while bits != 0u {
+        x ^= SOBOL_DIRECTIONS[dim & 3u][countTrailingZeros(bits)];
+        bits &= bits - 1u;
+    }
+    return x;
+}
+
+// x = XOR of v_k over the set bits k of index (Sobol' 1967; Joe & Kuo 2008), dim taken mod 4.
+fn sobol(index: u32, dim: u32) -> u32 {
+    return xor_set_bits(dim, index);
+}
+
+// v += seed, then v ^= v * c for four even constants, on bit-reversed values (Laine & Karras 2011; Burley 2020).
+fn laine_karras(v: u32, seed: u32) -> u32 {
+    var x = v + seed;
+    x ^= x * 0x6c50b47cu;
+    x ^= x * 0xb82f1e52u;
+    x ^= x * 0xc7afe638u;
+    x ^= x * 0x8d22f6e6u;
+    return x;
+}
+
+// reverse(LK(reverse(x), seed)): nested uniform (Owen) scramble (Burley 2020).
+fn owen_scramble(x: u32, seed: u32) -> u32 {
+    return reverseBits(laine_karras(reverseBits(x), seed));
+}
+
+// reverse(owen_scramble(index, group_seed)): the shuffled index, kept bit-reversed.
+fn shuffle_index_reversed(index: u32, group_seed: u32) -> u32 {
+    return laine_karras(reverseBits(index), group_seed);
+}
+
+// reverse(LK(reverse(sobol(reverse(r), dim)), h(group_seed, dim % 4))) (Burley 2020). ggx-core XORs
+// a pre-reversed table instead (x86 has no bit reversal); GPUs reverse in one instruction.
+fn sobol_owen_shuffled(reversed: u32, group_seed: u32, dim: u32) -> u32 {
+    let point = reverseBits(sobol(reverseBits(reversed), dim));
+    return reverseBits(laine_karras(point, hash_combine(group_seed, dim & 3u)));
+}
+
+// g = h(seed, dim / 4); x = owen(sobol(owen(index, g), dim % 4), h(g, dim % 4)) (Burley 2020).
+fn sobol_owen_u32(index: u32, dim: u32, seed: u32) -> u32 {
+    let group_seed = hash_combine(seed, dim >> 2u);
+    return sobol_owen_shuffled(shuffle_index_reversed(index, group_seed), group_seed, dim);
+}
+
+// u = u32_to_unit_f32(sobol_owen_u32(index, dim, seed)).
+fn sobol_owen(index: u32, dim: u32, seed: u32) -> f32 {
+    return u32_to_unit_f32(sobol_owen_u32(index, dim, seed));
+}
+
+// ---------------------------------------------------------------------------------------------
+// sequence/stream.rs: SampleStream
+// ---------------------------------------------------------------------------------------------
+
+// seed = hash_combine(scene seed, pixel), dimension 0 (Burley 2020).
+fn sample_stream_new(kind: u32, seed: u32, pixel: u32, sample_index: u32) -> SampleStream {
+    return SampleStream(kind, hash_combine(seed, pixel), sample_index, 0u);
+}
+
+// Independent: h(h(seed, sample), dim); Sobol: sobol_owen_u32(sample, dim, seed).
+fn sample_stream_get_u32(stream: SampleStream, dim: u32) -> u32 {
+    if stream.kind == SEQUENCE_SOBOL {
+        return sobol_owen_u32(stream.sample_index, dim, stream.seed);
+    }
+    return hash_combine(hash_combine(stream.seed, stream.sample_index), dim);
+}
+
+// u = u32_to_unit_f32(get_u32(dimension)); dimension += 1.
+fn sample_stream_next_1d(stream: ptr<function, SampleStream>) -> f32 {
+    let u = u32_to_unit_f32(sample_stream_get_u32(*stream, (*stream).dimension));
+    (*stream).dimension += 1u;
+    return u;
+}
+
+// d = 4 ceil(dimension / 4); (get(d), get(d + 1)), a Sobol' index shuffled once; dimension = d + 2 (Burley 2020 padding; pbrt-v4).
+fn sample_stream_next_2d(stream: ptr<function, SampleStream>) -> vec2<f32> {
+    let d = ((*stream).dimension + 3u) & ~3u;
+    (*stream).dimension = d + 2u;
+    var xy: vec2<u32>;
+    if (*stream).kind == SEQUENCE_SOBOL {
+        let group_seed = hash_combine((*stream).seed, d >> 2u);
+        let reversed = shuffle_index_reversed((*stream).sample_index, group_seed);
+        xy = vec2(sobol_owen_shuffled(reversed, group_seed, d), sobol_owen_shuffled(reversed, group_seed, d + 1u));
+    } else {
+        xy = vec2(sample_stream_get_u32(*stream, d), sample_stream_get_u32(*stream, d + 1u));
+    }
+    return vec2(u32_to_unit_f32(xy.x), u32_to_unit_f32(xy.y));
+}

@@ -1,0 +1,383 @@
+// parity.wgsl: runs one ggx_core.wgsl function (chosen by the pipeline constant FUNC) over a
+// table of inputs and writes its outputs as raw bits, 16 words per case. Appended to
+// ggx_core.wgsl. The Rust side (parity.rs) finds each function's id here by name: row
+// `name` runs `case F_NAME`.
+
+// One case. Floats arrive as bits, so NaN, infinities and signed zeros survive the upload.
+struct ParityIn {
+    a: vec4<f32>,
+    b: vec4<f32>,
+    c: vec4<f32>,
+    n: vec4<u32>,
+    m: vec4<u32>,
+}
+
+@group(0) @binding(0) var<storage, read> inputs: array<ParityIn>;
+// One BRDF per case: the distribution, Fresnel and conductor functions read it from here, which
+// also exercises the Rust/WGSL struct layout.
+@group(0) @binding(1) var<storage, read> bsdfs: array<GgxConductor>;
+@group(0) @binding(2) var<storage, read_write> outputs: array<u32>;
+
+override FUNC: u32;
+
+const OUT_WORDS: u32 = 16u;
+
+const F_SAFE_SQRT: u32 = 0u;
+const F_FINITE_OR_ZERO: u32 = 1u;
+const F_SANITIZE_U: u32 = 2u;
+const F_SANITIZE_U2: u32 = 3u;
+const F_NORMALIZE_OR_ZERO: u32 = 4u;
+const F_SINCOS_2PI: u32 = 5u;
+const F_CLAMP_ALPHA: u32 = 6u;
+const F_ROUGHNESS_TO_ALPHA: u32 = 7u;
+const F_ALPHA_TO_ROUGHNESS: u32 = 8u;
+const F_TROWBRIDGE_REITZ_NEW: u32 = 9u;
+const F_D: u32 = 10u;
+const F_LAMBDA: u32 = 11u;
+const F_G1: u32 = 12u;
+const F_G2: u32 = 13u;
+const F_G2_SEPARABLE: u32 = 14u;
+const F_D_VISIBLE: u32 = 15u;
+const F_SAMPLE_WM_NDF: u32 = 16u;
+const F_PDF_WM_NDF: u32 = 17u;
+const F_SAMPLE_WM_VNDF: u32 = 18u;
+const F_SAMPLE_WM_SPHERICAL_CAPS: u32 = 19u;
+const F_BOUNDED_K: u32 = 20u;
+const F_SAMPLE_WM_BOUNDED: u32 = 21u;
+const F_PDF_WI_BOUNDED: u32 = 22u;
+const F_SAMPLE_COSINE_HEMISPHERE: u32 = 23u;
+const F_PDF_COSINE_HEMISPHERE: u32 = 24u;
+const F_SAMPLE_UNIFORM_HEMISPHERE: u32 = 25u;
+const F_PDF_UNIFORM_HEMISPHERE: u32 = 26u;
+const F_FRESNEL_SCHLICK: u32 = 27u;
+const F_FRESNEL_DIELECTRIC: u32 = 28u;
+const F_FRESNEL_COMPLEX: u32 = 29u;
+const F_FRESNEL_PARAMS_EVAL: u32 = 30u;
+const F_GGX_CONDUCTOR_EVAL: u32 = 31u;
+const F_GGX_CONDUCTOR_PDF: u32 = 32u;
+const F_GGX_CONDUCTOR_SAMPLE: u32 = 33u;
+const F_BALANCE_HEURISTIC: u32 = 34u;
+const F_POWER_HEURISTIC: u32 = 35u;
+const F_FRAME_FROM_Z: u32 = 36u;
+const F_FRAME_TO_LOCAL: u32 = 37u;
+const F_FRAME_TO_WORLD: u32 = 38u;
+const F_REFLECT: u32 = 39u;
+const F_HASH_U32: u32 = 40u;
+const F_HASH_COMBINE: u32 = 41u;
+const F_U32_TO_UNIT_F32: u32 = 42u;
+const F_COUNTER_RNG_NEW: u32 = 43u;
+const F_COUNTER_RNG_GET_U32: u32 = 44u;
+const F_COUNTER_RNG_NEXT_U32: u32 = 45u;
+const F_COUNTER_RNG_NEXT_F32: u32 = 46u;
+const F_COUNTER_RNG_NEXT_VEC2: u32 = 47u;
+const F_COUNTER_RNG_ADVANCE: u32 = 48u;
+const F_SOBOL: u32 = 49u;
+const F_OWEN_SCRAMBLE: u32 = 50u;
+const F_SOBOL_OWEN_U32: u32 = 51u;
+const F_SOBOL_OWEN: u32 = 52u;
+const F_SAMPLE_STREAM_NEW: u32 = 53u;
+const F_SAMPLE_STREAM_GET_U32: u32 = 54u;
+const F_SAMPLE_STREAM_NEXT_1D: u32 = 55u;
+const F_SAMPLE_STREAM_NEXT_2D: u32 = 56u;
+const F_GGX_CONDUCTOR_LAYOUT: u32 = 57u;
+// Not a ggx-core function: how the adapter treats NaN, infinities, subnormals and a * b + c.
+const F_PROBE: u32 = 58u;
+const F_SHUFFLE_INDEX_REVERSED: u32 = 59u;
+const F_SOBOL_OWEN_SHUFFLED: u32 = 60u;
+
+var<private> out_base: u32;
+
+fn put_u(k: u32, x: u32) {
+    outputs[out_base + k] = x;
+}
+
+fn put_b(k: u32, x: bool) {
+    put_u(k, select(0u, 1u, x));
+}
+
+fn put_f(k: u32, x: f32) {
+    put_u(k, bitcast<u32>(x));
+}
+
+fn put_v2(k: u32, v: vec2<f32>) {
+    put_f(k, v.x);
+    put_f(k + 1u, v.y);
+}
+
+fn put_v3(k: u32, v: vec3<f32>) {
+    put_f(k, v.x);
+    put_f(k + 1u, v.y);
+    put_f(k + 2u, v.z);
+}
+
+// Behaviour of builtins and arithmetic on special values; inputs come from the buffer so that
+// nothing is folded at compile time: a = (NaN, 1, 0, -1), b = (subnormal 2^-133, 1e-20, 1 + 2^-12,
+// -(1 + 2^-11)).
+fn probe(p: ParityIn) {
+    let nan = p.a.x;
+    let one = p.a.y;
+    let zero = p.a.z;
+    put_b(0u, nan != nan);
+    put_b(1u, !(nan > zero));
+    put_f(2u, max(nan, zero));
+    put_f(3u, min(nan, one));
+    put_f(4u, clamp(nan, zero, one));
+    put_f(5u, one / zero);
+    put_f(6u, zero / zero);
+    put_f(7u, p.b.x * one);
+    put_f(8u, p.b.y * p.b.y);
+    put_f(9u, p.b.z * p.b.z + p.b.w);
+    put_f(10u, sqrt(p.a.w));
+    put_b(11u, is_nan(nan));
+}
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    if i >= arrayLength(&inputs) {
+        return;
+    }
+    out_base = i * OUT_WORDS;
+    let p = inputs[i];
+    let bsdf = bsdfs[i];
+    let dist = bsdf.distribution;
+    switch FUNC {
+        case F_SAFE_SQRT: {
+            put_f(0u, safe_sqrt(p.a.x));
+        }
+        case F_FINITE_OR_ZERO: {
+            put_f(0u, finite_or_zero(p.a.x));
+        }
+        case F_SANITIZE_U: {
+            put_f(0u, sanitize_u(p.a.x));
+        }
+        case F_SANITIZE_U2: {
+            put_v2(0u, sanitize_u2(p.a.xy));
+        }
+        case F_NORMALIZE_OR_ZERO: {
+            put_v3(0u, normalize_or_zero(p.a.xyz));
+        }
+        case F_SINCOS_2PI: {
+            put_v2(0u, sincos_2pi(p.a.x));
+        }
+        case F_CLAMP_ALPHA: {
+            put_f(0u, clamp_alpha(p.a.x));
+        }
+        case F_ROUGHNESS_TO_ALPHA: {
+            put_f(0u, roughness_to_alpha(p.a.x));
+        }
+        case F_ALPHA_TO_ROUGHNESS: {
+            put_f(0u, alpha_to_roughness(p.a.x));
+        }
+        case F_TROWBRIDGE_REITZ_NEW: {
+            let t = trowbridge_reitz_new(p.a.x, p.a.y);
+            put_f(0u, t.alpha_x);
+            put_f(1u, t.alpha_y);
+            put_b(2u, is_isotropic(t));
+            put_b(3u, is_effectively_smooth(t));
+        }
+        case F_D: {
+            put_f(0u, d(dist, p.a.xyz));
+        }
+        case F_LAMBDA: {
+            put_f(0u, lambda(dist, p.a.xyz));
+        }
+        case F_G1: {
+            put_f(0u, g1(dist, p.a.xyz));
+        }
+        case F_G2: {
+            put_f(0u, g2(dist, p.a.xyz, p.b.xyz));
+        }
+        case F_G2_SEPARABLE: {
+            put_f(0u, g2_separable(dist, p.a.xyz, p.b.xyz));
+        }
+        case F_D_VISIBLE: {
+            put_f(0u, d_visible(dist, p.a.xyz, p.b.xyz));
+        }
+        case F_SAMPLE_WM_NDF: {
+            put_v3(0u, sample_wm_ndf(dist, p.c.xy));
+        }
+        case F_PDF_WM_NDF: {
+            put_f(0u, pdf_wm_ndf(dist, p.a.xyz));
+        }
+        case F_SAMPLE_WM_VNDF: {
+            put_v3(0u, sample_wm_vndf(dist, p.a.xyz, p.c.xy));
+        }
+        case F_SAMPLE_WM_SPHERICAL_CAPS: {
+            put_v3(0u, sample_wm_spherical_caps(dist, p.a.xyz, p.c.xy));
+        }
+        case F_BOUNDED_K: {
+            put_f(0u, bounded_k(dist, p.a.xyz));
+        }
+        case F_SAMPLE_WM_BOUNDED: {
+            put_v3(0u, sample_wm_bounded(dist, p.a.xyz, p.c.xy));
+        }
+        case F_PDF_WI_BOUNDED: {
+            put_f(0u, pdf_wi_bounded(dist, p.a.xyz, p.b.xyz));
+        }
+        case F_SAMPLE_COSINE_HEMISPHERE: {
+            put_v3(0u, sample_cosine_hemisphere(p.c.xy));
+        }
+        case F_PDF_COSINE_HEMISPHERE: {
+            put_f(0u, pdf_cosine_hemisphere(p.a.xyz));
+        }
+        case F_SAMPLE_UNIFORM_HEMISPHERE: {
+            put_v3(0u, sample_uniform_hemisphere(p.c.xy));
+        }
+        case F_PDF_UNIFORM_HEMISPHERE: {
+            put_f(0u, pdf_uniform_hemisphere(p.a.xyz));
+        }
+        case F_FRESNEL_SCHLICK: {
+            put_v3(0u, fresnel_schlick(p.c.x, p.a.xyz, p.b.xyz));
+        }
+        case F_FRESNEL_DIELECTRIC: {
+            put_f(0u, fresnel_dielectric(p.c.x, p.c.y));
+        }
+        case F_FRESNEL_COMPLEX: {
+            put_f(0u, fresnel_complex(p.c.x, p.c.y, p.c.z));
+        }
+        case F_FRESNEL_PARAMS_EVAL: {
+            put_v3(0u, fresnel_params_eval(bsdf.fresnel, p.c.x));
+        }
+        case F_GGX_CONDUCTOR_EVAL: {
+            put_v3(0u, ggx_conductor_eval(bsdf, p.a.xyz, p.b.xyz));
+        }
+        case F_GGX_CONDUCTOR_PDF: {
+            put_f(0u, ggx_conductor_pdf(bsdf, p.a.xyz, p.b.xyz, p.n.x));
+        }
+        case F_GGX_CONDUCTOR_SAMPLE: {
+            let s = ggx_conductor_sample(bsdf, p.a.xyz, p.c.xy, p.n.x);
+            put_u(0u, s.valid);
+            put_u(1u, s.is_delta);
+            put_v3(2u, s.wi);
+            put_v3(5u, s.weight);
+            put_f(8u, s.pdf);
+        }
+        case F_BALANCE_HEURISTIC: {
+            put_f(0u, balance_heuristic(p.c.x, p.c.y, p.c.z, p.c.w));
+        }
+        case F_POWER_HEURISTIC: {
+            put_f(0u, power_heuristic(p.c.x, p.c.y, p.c.z, p.c.w));
+        }
+        case F_FRAME_FROM_Z: {
+            let f = frame_from_z(p.a.xyz);
+            put_v3(0u, f.x);
+            put_v3(3u, f.y);
+            put_v3(6u, f.z);
+        }
+        case F_FRAME_TO_LOCAL: {
+            let f = Frame(p.a.xyz, p.b.xyz, p.c.xyz);
+            put_v3(0u, frame_to_local(f, vec3(p.a.w, p.b.w, p.c.w)));
+        }
+        case F_FRAME_TO_WORLD: {
+            let f = Frame(p.a.xyz, p.b.xyz, p.c.xyz);
+            put_v3(0u, frame_to_world(f, vec3(p.a.w, p.b.w, p.c.w)));
+        }
+        case F_REFLECT: {
+            put_v3(0u, reflect(p.a.xyz, p.b.xyz));
+        }
+        case F_HASH_U32: {
+            put_u(0u, hash_u32(p.n.x));
+        }
+        case F_HASH_COMBINE: {
+            put_u(0u, hash_combine(p.n.x, p.n.y));
+        }
+        case F_U32_TO_UNIT_F32: {
+            put_f(0u, u32_to_unit_f32(p.n.x));
+        }
+        case F_COUNTER_RNG_NEW: {
+            let r = counter_rng_new(p.n.x, p.n.y);
+            put_u(0u, r.key);
+            put_u(1u, r.counter);
+        }
+        case F_COUNTER_RNG_GET_U32: {
+            put_u(0u, counter_rng_get_u32(CounterRng(p.n.x, p.n.y), p.n.z));
+        }
+        case F_COUNTER_RNG_NEXT_U32: {
+            var r = CounterRng(p.n.x, p.n.y);
+            put_u(0u, counter_rng_next_u32(&r));
+            put_u(1u, counter_rng_next_u32(&r));
+            put_u(2u, r.counter);
+        }
+        case F_COUNTER_RNG_NEXT_F32: {
+            var r = CounterRng(p.n.x, p.n.y);
+            put_f(0u, counter_rng_next_f32(&r));
+            put_u(1u, r.counter);
+        }
+        case F_COUNTER_RNG_NEXT_VEC2: {
+            var r = CounterRng(p.n.x, p.n.y);
+            put_v2(0u, counter_rng_next_vec2(&r));
+            put_u(2u, r.counter);
+        }
+        case F_COUNTER_RNG_ADVANCE: {
+            var r = CounterRng(p.n.x, p.n.y);
+            counter_rng_advance(&r, p.n.z);
+            put_u(0u, r.counter);
+            put_u(1u, counter_rng_next_u32(&r));
+        }
+        case F_SOBOL: {
+            put_u(0u, sobol(p.n.x, p.n.y));
+        }
+        case F_OWEN_SCRAMBLE: {
+            put_u(0u, owen_scramble(p.n.x, p.n.y));
+        }
+        case F_SHUFFLE_INDEX_REVERSED: {
+            put_u(0u, shuffle_index_reversed(p.n.x, p.n.y));
+        }
+        case F_SOBOL_OWEN_SHUFFLED: {
+            put_u(0u, sobol_owen_shuffled(p.n.x, p.n.y, p.n.z));
+        }
+        case F_SOBOL_OWEN_U32: {
+            put_u(0u, sobol_owen_u32(p.n.x, p.n.y, p.n.z));
+        }
+        case F_SOBOL_OWEN: {
+            put_f(0u, sobol_owen(p.n.x, p.n.y, p.n.z));
+        }
+        case F_SAMPLE_STREAM_NEW: {
+            let s = sample_stream_new(p.n.x, p.n.y, p.n.z, p.n.w);
+            put_u(0u, s.kind);
+            put_u(1u, s.seed);
+            put_u(2u, s.sample_index);
+            put_u(3u, s.dimension);
+        }
+        case F_SAMPLE_STREAM_GET_U32: {
+            put_u(0u, sample_stream_get_u32(SampleStream(p.n.x, p.n.y, p.n.z, p.n.w), p.m.x));
+        }
+        case F_SAMPLE_STREAM_NEXT_1D: {
+            var s = SampleStream(p.n.x, p.n.y, p.n.z, p.n.w);
+            put_f(0u, sample_stream_next_1d(&s));
+            put_f(1u, sample_stream_next_1d(&s));
+            put_u(2u, s.dimension);
+        }
+        case F_SAMPLE_STREAM_NEXT_2D: {
+            var s = SampleStream(p.n.x, p.n.y, p.n.z, p.n.w);
+            put_v2(0u, sample_stream_next_2d(&s));
+            put_v2(2u, sample_stream_next_2d(&s));
+            put_u(4u, s.dimension);
+        }
+        case F_GGX_CONDUCTOR_LAYOUT: {
+            put_f(0u, bsdf.distribution.alpha_x);
+            put_f(1u, bsdf.distribution.alpha_y);
+            put_u(2u, bsdf.pad.x);
+            put_u(3u, bsdf.pad.y);
+            put_u(4u, bsdf.fresnel.kind);
+            put_f(5u, bsdf.fresnel.eta);
+            put_u(6u, bsdf.fresnel.pad.x);
+            put_u(7u, bsdf.fresnel.pad.y);
+            put_f(8u, bsdf.fresnel.a.x);
+            put_f(9u, bsdf.fresnel.a.y);
+            put_f(10u, bsdf.fresnel.a.z);
+            put_f(11u, bsdf.fresnel.a.w);
+            put_f(12u, bsdf.fresnel.b.x);
+            put_f(13u, bsdf.fresnel.b.y);
+            put_f(14u, bsdf.fresnel.b.z);
+            put_f(15u, bsdf.fresnel.b.w);
+        }
+        case F_PROBE: {
+            probe(p);
+        }
+        default: {
+            put_u(0u, 0xdeadbeefu);
+        }
+    }
+}
