@@ -78,10 +78,15 @@ impl GgxConductor {
             return Vec3::ZERO;
         }
         let wm = normalize_or_zero(wo + wi);
+        let cos_om = wo.dot(wm);
+        // wo.wm = |wo + wi| / 2 >= 0 exactly; rounding can flip it where wo ~ -wi at grazing angles.
+        if !(cos_om > 0.0) {
+            return Vec3::ZERO;
+        }
         let d = &self.distribution;
         let so = d.stretched_len(wo);
         let f = d.d(wm) * wi.z / g2_denominator(d, wo, wi, so);
-        self.fresnel.eval(wo.dot(wm)) * finite_or_zero(f)
+        self.fresnel.eval(cos_om) * finite_or_zero(f)
     }
 
     /// Solid-angle density with which [`Self::sample`] returns `wi` for the technique:
@@ -96,8 +101,13 @@ impl GgxConductor {
         }
         let d = &self.distribution;
         let wm = normalize_or_zero(wo + wi);
+        let cos_om = wo.dot(wm);
+        // A back-facing half vector (rounding where wo ~ -wi) is never sampled; eval is 0 there too.
+        if !(cos_om > 0.0) && !matches!(sampling, Sampling::Cosine | Sampling::Uniform) {
+            return 0.0;
+        }
         let pdf = match sampling {
-            Sampling::Ndf => d.pdf_wm_ndf(wm) / (4.0 * wo.dot(wm)),
+            Sampling::Ndf => d.pdf_wm_ndf(wm) / (4.0 * cos_om),
             Sampling::Vndf | Sampling::SphericalCaps => d.d(wm) / (2.0 * (wo.z + d.stretched_len(wo))),
             Sampling::Bounded => d.pdf_wi_bounded(wo, wm),
             Sampling::Cosine => warp::pdf_cosine_hemisphere(wi),

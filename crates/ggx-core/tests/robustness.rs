@@ -7,6 +7,7 @@ use ggx_core::math::ONE_MINUS_EPSILON;
 use ggx_core::mis::{balance_heuristic, power_heuristic};
 use ggx_core::{Frame, Fresnel, GgxConductor, Sampling, TrowbridgeReitz, Vec2, Vec3, warp};
 use proptest::prelude::*;
+use proptest::test_runner::RngSeed;
 
 /// Any f32, with the special values over-represented.
 fn any_f32() -> impl Strategy<Value = f32> {
@@ -55,8 +56,29 @@ fn ok3(v: Vec3) -> bool {
     ok(v.x) && ok(v.y) && ok(v.z)
 }
 
+/// Found by CI: wo ~ -wi at grazing angles rounds `wo.wm` below zero, which made the NDF
+/// pdf negative. A back-facing half vector now gives eval = pdf = 0 for microfacet sampling.
+#[test]
+fn back_facing_half_vector_from_rounding_gives_zero() {
+    let brdf = GgxConductor::new(1.0, 1.0, Fresnel::Dielectric { eta: 1.5 });
+    let wo = Vec3::new(-0.795_087_7, 1e-45, 1e-7);
+    let wi = Vec3::new(1.372_513_5, 1e-45, 4.750_493e-7);
+    for s in Sampling::ALL {
+        let p = brdf.pdf(wo, wi, s);
+        assert!(ok(p), "pdf {s:?} {p}");
+    }
+    assert_eq!(brdf.pdf(wo, wi, Sampling::Ndf), 0.0);
+    assert_eq!(brdf.eval(wo, wi), Vec3::ZERO);
+}
+
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 20_000, ..ProptestConfig::default() })]
+    // A fixed seed keeps CI reproducible; `cargo xtask stress` explores fresh inputs each run.
+    #![proptest_config(ProptestConfig {
+        cases: 20_000,
+        rng_seed: RngSeed::Fixed(0x6767_7863),
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
 
     #[test]
     fn brdf_never_produces_invalid_values(

@@ -585,10 +585,15 @@ fn ggx_conductor_eval(bsdf: GgxConductor, wo_in: vec3<f32>, wi_in: vec3<f32>) ->
         return vec3(0.0);
     }
     let wm = normalize_or_zero(wo + wi);
+    let cos_om = dot3(wo, wm);
+    // wo.wm = |wo + wi| / 2 >= 0 exactly; rounding can flip it where wo ~ -wi at grazing angles.
+    if !(cos_om > 0.0) {
+        return vec3(0.0);
+    }
     let dist = bsdf.distribution;
     let so = stretched_len(dist, wo);
     let f = d(dist, wm) * wi.z / g2_denominator(dist, wo, wi, so);
-    return fresnel_params_eval(bsdf.fresnel, dot3(wo, wm)) * finite_or_zero(f);
+    return fresnel_params_eval(bsdf.fresnel, cos_om) * finite_or_zero(f);
 }
 
 // Solid-angle density of `ggx_conductor_sample` for the technique (unknown -> VNDF).
@@ -600,10 +605,15 @@ fn ggx_conductor_pdf(bsdf: GgxConductor, wo_in: vec3<f32>, wi_in: vec3<f32>, sam
     }
     let dist = bsdf.distribution;
     let wm = normalize_or_zero(wo + wi);
+    let cos_om = dot3(wo, wm);
+    // A back-facing half vector (rounding where wo ~ -wi) is never sampled; eval is 0 there too.
+    if !(cos_om > 0.0) && sampling != SAMPLING_COSINE && sampling != SAMPLING_UNIFORM {
+        return 0.0;
+    }
     var pdf: f32;
     switch sampling {
         case SAMPLING_NDF: {
-            pdf = pdf_wm_ndf(dist, wm) / (4.0 * dot3(wo, wm));
+            pdf = pdf_wm_ndf(dist, wm) / (4.0 * cos_om);
         }
         case SAMPLING_BOUNDED: {
             pdf = pdf_wi_bounded(dist, wo, wm);
