@@ -1,28 +1,39 @@
 //! `--backend`: which renderer runs.
 
-use anyhow::Result;
+use anyhow::{Context, Result};
+use ggx_wgpu::{GpuContext, GpuOptions};
 
 use crate::args::Backend;
-use crate::exit::UsageError;
 
 /// A renderer this build can run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Debug)]
 pub enum Device {
     /// `ggx-cpu`.
     Cpu,
+    /// `ggx-wgpu` on the adapter of the context.
+    Wgpu(GpuContext),
 }
 
-const WGPU_UNAVAILABLE: &str = "the wgpu backend is not available in this build";
-
-/// Resolves `--backend` to a renderer of this build; asking for one it lacks is a usage
-/// error (exit code 2).
+/// Resolves `--backend`: `wgpu` fails when no adapter can be had, `auto` then falls back to the
+/// CPU with a message. The adapter chosen (see `ggx_wgpu::GpuOptions` for the `WGPU_*`
+/// variables) is printed.
 pub fn select(backend: Backend) -> Result<Device> {
     match backend {
         Backend::Cpu => Ok(Device::Cpu),
-        Backend::Wgpu => Err(UsageError(WGPU_UNAVAILABLE).into()),
-        Backend::Auto => {
-            eprintln!("wgpu backend unavailable, rendering on the CPU");
-            Ok(Device::Cpu)
+        Backend::Wgpu => {
+            let ctx = GpuContext::new(GpuOptions::default()).context("the wgpu backend has no GPU")?;
+            eprintln!("wgpu adapter: {}", ctx.describe());
+            Ok(Device::Wgpu(ctx))
         }
+        Backend::Auto => match GpuContext::new(GpuOptions::default()) {
+            Ok(ctx) => {
+                eprintln!("wgpu adapter: {}", ctx.describe());
+                Ok(Device::Wgpu(ctx))
+            }
+            Err(e) => {
+                eprintln!("wgpu backend unavailable ({e}): rendering on the CPU");
+                Ok(Device::Cpu)
+            }
+        },
     }
 }

@@ -8,6 +8,7 @@ use anyhow::{Context, Result};
 use ggx_cpu::{Progress, RenderControl, RenderOptions, RenderResult, Renderer};
 use ggx_film::{OutputOptions, ToneMap};
 use ggx_scene::Scene;
+use ggx_wgpu::{GpuContext, WgpuRenderer};
 use indicatif::ProgressBar;
 
 use crate::args::{RenderArgs, ToneMapArg};
@@ -29,6 +30,7 @@ pub fn run(args: &RenderArgs) -> Result<Outcome> {
 
     let rendered = match device {
         Device::Cpu => render_cpu(&scene, args, bar, &cancel),
+        Device::Wgpu(ctx) => render_wgpu(&scene, args, &ctx, bar, &cancel)?,
     };
     let Some(result) = rendered else {
         eprintln!("interrupted before rendering started: no image written");
@@ -86,6 +88,41 @@ fn render_cpu(scene: &Scene, args: &RenderArgs, bar: ProgressBar, cancel: &Atomi
     let result = renderer.render(&options, &control);
     progress.finish();
     Some(result)
+}
+
+/// Uploads the scene and renders on the GPU; `None` when cancelled before rendering started.
+fn render_wgpu(
+    scene: &Scene,
+    args: &RenderArgs,
+    ctx: &GpuContext,
+    bar: ProgressBar,
+    cancel: &AtomicBool,
+) -> Result<Option<RenderResult>> {
+    let renderer = WgpuRenderer::new(scene, ctx)?;
+    let [width, height] = scene.camera.resolution;
+    let kernel = if args.generic { "generic kernel" } else { "specialized kernel" };
+    eprintln!(
+        "rendering {} on {}: {width}x{height}, {} spp{}, BVH2, {kernel}",
+        args.scene.display(),
+        ctx.adapter_info().name,
+        scene.integrator.spp,
+        scene.integrator.time_budget.map_or(String::new(), |t| format!(" or {t} s")),
+    );
+    if cancel.load(Ordering::SeqCst) {
+        return Ok(None);
+    }
+    let progress = RenderProgress::start(
+        bar,
+        scene.integrator.spp,
+        u64::from(width) * u64::from(height),
+        scene.integrator.time_budget,
+    );
+    let on_progress = |p: Progress| progress.update(&p);
+    let control = RenderControl { cancel: Some(cancel), progress: Some(&on_progress) };
+    let options = RenderOptions { threads: 0, specialize: !args.generic };
+    let result = renderer.render(&options, &control);
+    progress.finish();
+    Ok(Some(result?))
 }
 
 /// The final line: time, spp, size, throughput, kernel variant, output.

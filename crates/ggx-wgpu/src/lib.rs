@@ -3,7 +3,9 @@
 //! The GPU twin of [`ggx_core`]: [`GGX_CORE_WGSL`] mirrors the crate function by function in
 //! WGSL, and [`run_parity`] runs every mirrored function on a wgpu adapter over edge-case
 //! input tables and compares the results with ggx-core on the CPU (sequences bit for bit,
-//! floating-point math within a stated ULP / absolute bound).
+//! floating-point math within a stated ULP / absolute bound). [`WgpuRenderer`] is ggx-cpu's
+//! path tracer on the GPU: the same passes, sample streams and integrator, so it renders the
+//! same image up to floating-point differences.
 //!
 //! ```no_run
 //! let ctx = ggx_wgpu::GpuContext::new(Default::default())?;
@@ -15,11 +17,17 @@
 //! ```
 #![deny(missing_docs)]
 
+pub mod bvh_flat;
 mod context;
+mod gpu_scene;
 mod parity;
+mod renderer;
+pub mod scene_upload;
 
 pub use context::{GpuContext, GpuError, GpuOptions};
+pub use gpu_scene::{Variant, path_tracer_wgsl};
 pub use parity::{Bound, Contract, ParityReport, ProbeReport, RowReport, run_parity};
+pub use renderer::{DISPATCH_PATHS, WgpuRenderer};
 
 /// WGSL source of the ggx-core mirror: constants, structs and functions, no entry points and
 /// no bindings, so it can be prepended to any shader.
@@ -69,6 +77,7 @@ mod tests {
     fn shaders_parse_and_validate() {
         validate(&parse(GGX_CORE_WGSL));
         validate(&parse(&format!("{GGX_CORE_WGSL}\n{PARITY_WGSL}")));
+        validate(&parse(&path_tracer_wgsl()));
     }
 
     /// Size of a WGSL struct and the offsets of its members, by name.
@@ -102,5 +111,72 @@ mod tests {
         assert_layout!(&module, SampleStream, kind, seed, sample_index, dimension);
         assert_eq!(size_of::<FresnelParams>(), 48);
         assert_eq!(size_of::<GgxConductor>(), 64);
+    }
+
+    #[test]
+    fn path_tracer_layouts_match_the_rust_pod_structs() {
+        use crate::bvh_flat::BvhNode;
+        use crate::scene_upload::{MaterialRecord, Params};
+        use ggx_scene::{Emitter, ShadingNormals, Triangle};
+        let module = parse(&path_tracer_wgsl());
+        assert_layout!(&module, BvhNode, min, prim_count, max, first_index);
+        assert_layout!(&module, Triangle, v0, material, v1, normals, v2, emitter);
+        assert_layout!(&module, ShadingNormals, normals);
+        assert_layout!(&module, Emitter, triangle, light, area, pmf);
+        let (size, members) = wgsl_layout(&module, "Material");
+        assert_eq!(size as usize, size_of::<MaterialRecord>());
+        let rust = [
+            ("conductor", core::mem::offset_of!(MaterialRecord, conductor)),
+            ("albedo", core::mem::offset_of!(MaterialRecord, albedo)),
+            ("kind", core::mem::offset_of!(MaterialRecord, kind)),
+            ("emission", core::mem::offset_of!(MaterialRecord, emission)),
+            ("ior", core::mem::offset_of!(MaterialRecord, ior)),
+            ("sampling", core::mem::offset_of!(MaterialRecord, sampling)),
+            ("pad0", core::mem::offset_of!(MaterialRecord, pad0)),
+            ("pad1", core::mem::offset_of!(MaterialRecord, pad1)),
+            ("pad2", core::mem::offset_of!(MaterialRecord, pad2)),
+        ]
+        .map(|(n, o)| (n.to_string(), o as u32));
+        assert_eq!(members, rust, "members of Material");
+        assert_layout!(
+            &module,
+            Params,
+            cam_position,
+            tan_half_fov,
+            cam_forward,
+            aspect,
+            cam_right,
+            width_f,
+            cam_up,
+            height_f,
+            env_radiance,
+            env_scale,
+            env_to_map,
+            env_to_world,
+            width,
+            height,
+            y0,
+            rows,
+            s0,
+            s1,
+            sequence,
+            seed,
+            light_strategy,
+            max_depth,
+            roulette_depth,
+            draw_lobe,
+            emitter_count,
+            env_kind,
+            env_width,
+            env_height,
+            light_cdf,
+            env_func,
+            env_conditional_cdf,
+            env_marginal_cdf,
+            env_texels,
+            env_marginal_integral,
+            pad0,
+            pad1
+        );
     }
 }

@@ -270,7 +270,7 @@ struct Kernel<'a> {
 }
 
 /// Runs `f` inside a validation error scope and turns a captured error into [`GpuError::Wgpu`].
-fn checked<T>(device: &wgpu::Device, f: impl FnOnce() -> T) -> Result<T, GpuError> {
+pub(crate) fn checked<T>(device: &wgpu::Device, f: impl FnOnce() -> T) -> Result<T, GpuError> {
     let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
     let value = f();
     match pollster::block_on(scope.pop()) {

@@ -1,0 +1,179 @@
+//! [`SceneTables`] uploaded: storage buffers, the bind group, and one compute pipeline per
+//! kernel variant (`AREA`, `ENV`, `PLASTIC` override constants), built on first use.
+
+use crate::context::{GpuContext, GpuError};
+use crate::parity::checked;
+use crate::scene_upload::{Params, SceneTables, non_empty};
+use std::collections::HashMap;
+use std::sync::Mutex;
+use wgpu::util::DeviceExt;
+
+/// WGSL source of the path tracer: [`crate::GGX_CORE_WGSL`], `scene.wgsl` and `path_tracer.wgsl`.
+pub fn path_tracer_wgsl() -> String {
+    format!(
+        "{}\n{}\n{}",
+        crate::GGX_CORE_WGSL,
+        include_str!("shaders/scene.wgsl"),
+        include_str!("shaders/path_tracer.wgsl")
+    )
+}
+
+/// Which features a kernel variant keeps (the others are compiled out).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Variant {
+    /// Area lights.
+    pub area: bool,
+    /// Environment.
+    pub env: bool,
+    /// Plastics.
+    pub plastic: bool,
+}
+
+impl Variant {
+    /// The variant's name, as ggx-cpu names its kernels (`"area+env"`, `"none"`).
+    pub fn name(&self) -> &'static str {
+        match (self.area, self.env, self.plastic) {
+            (true, true, true) => "area+env+plastic",
+            (true, true, false) => "area+env",
+            (true, false, true) => "area+plastic",
+            (true, false, false) => "area",
+            (false, true, true) => "env+plastic",
+            (false, true, false) => "env",
+            (false, false, true) => "plastic",
+            (false, false, false) => "none",
+        }
+    }
+}
+
+/// The uploaded scene.
+pub struct GpuScene {
+    module: wgpu::ShaderModule,
+    layout: wgpu::PipelineLayout,
+    pipelines: Mutex<HashMap<Variant, wgpu::ComputePipeline>>,
+    /// The bind group over all buffers.
+    pub bind_group: wgpu::BindGroup,
+    /// The per-dispatch uniform.
+    pub params: wgpu::Buffer,
+    /// Per-pixel `vec4<f32>`: radiance sum, rays (bits).
+    pub output: wgpu::Buffer,
+    /// Mappable copy of `output`.
+    pub readback: wgpu::Buffer,
+    /// Bytes of `output`.
+    pub output_size: u64,
+}
+
+impl GpuScene {
+    /// Uploads `tables`; the shader module is compiled here, pipelines on first use.
+    pub fn new(ctx: &GpuContext, tables: &SceneTables) -> Result<GpuScene, GpuError> {
+        let device = ctx.device();
+        let pixels = u64::from(tables.params.width) * u64::from(tables.params.height);
+        let output_size = pixels * 16;
+        checked(device, || {
+            let source = path_tracer_wgsl();
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("ggx path tracer"),
+                source: wgpu::ShaderSource::Wgsl(source.into()),
+            });
+            let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
+                binding,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+                count: None,
+            };
+            let storage = |binding| entry(binding, wgpu::BufferBindingType::Storage { read_only: true });
+            let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("ggx path tracer"),
+                entries: &[
+                    entry(0, wgpu::BufferBindingType::Uniform),
+                    storage(1),
+                    storage(2),
+                    storage(3),
+                    storage(4),
+                    storage(5),
+                    storage(6),
+                    entry(7, wgpu::BufferBindingType::Storage { read_only: false }),
+                ],
+            });
+            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("ggx path tracer"),
+                bind_group_layouts: &[Some(&bind_group_layout)],
+                immediate_size: 0,
+            });
+            let init = |label, contents: &[u8]| {
+                device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents,
+                    usage: wgpu::BufferUsages::STORAGE,
+                })
+            };
+            let nodes = init("bvh nodes", bytemuck::cast_slice(&tables.nodes()));
+            let triangles = init("triangles", bytemuck::cast_slice(&tables.triangles()));
+            let normals = init("shading normals", bytemuck::cast_slice(&non_empty(&tables.normals)));
+            let materials = init("materials", bytemuck::cast_slice(&non_empty(&tables.materials)));
+            let emitters = init("emitters", bytemuck::cast_slice(&non_empty(&tables.emitters)));
+            let table = init("tables", bytemuck::cast_slice(&non_empty(&tables.table)));
+            let params = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("params"),
+                size: size_of::<Params>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let buffer = |label, usage| {
+                device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some(label),
+                    size: output_size,
+                    usage,
+                    mapped_at_creation: false,
+                })
+            };
+            let output = buffer("radiance sums", wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC);
+            let readback = buffer("radiance readback", wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);
+            let buffers = [&params, &nodes, &triangles, &normals, &materials, &emitters, &table, &output];
+            let entries: Vec<wgpu::BindGroupEntry> = buffers
+                .iter()
+                .enumerate()
+                .map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() })
+                .collect();
+            let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("ggx path tracer"),
+                layout: &bind_group_layout,
+                entries: &entries,
+            });
+            GpuScene {
+                module,
+                layout,
+                pipelines: Mutex::new(HashMap::new()),
+                bind_group,
+                params,
+                output,
+                readback,
+                output_size,
+            }
+        })
+    }
+
+    /// The pipeline of `variant`, compiled on first use and cached.
+    pub fn pipeline(&self, ctx: &GpuContext, variant: Variant) -> Result<wgpu::ComputePipeline, GpuError> {
+        let mut cache = self.pipelines.lock().map_err(|e| GpuError::Wgpu(e.to_string()))?;
+        if let Some(p) = cache.get(&variant) {
+            return Ok(p.clone());
+        }
+        let constants = [
+            ("AREA", f64::from(u8::from(variant.area))),
+            ("ENV", f64::from(u8::from(variant.env))),
+            ("PLASTIC", f64::from(u8::from(variant.plastic))),
+        ];
+        let pipeline = checked(ctx.device(), || {
+            ctx.device().create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(variant.name()),
+                layout: Some(&self.layout),
+                module: &self.module,
+                entry_point: Some("render"),
+                compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
+                cache: None,
+            })
+        })?;
+        cache.insert(variant, pipeline.clone());
+        Ok(pipeline)
+    }
+}

@@ -1,0 +1,244 @@
+//! The scene as the flat, `bytemuck::Pod` tables `path_tracer.wgsl` reads: BVH nodes and
+//! leaf-order triangles, shading normals, materials (ggx-cpu's precomputed [`Bsdf`]s), emitters,
+//! one `f32` table for the light and environment CDFs and texels, and the [`Params`] uniform.
+
+use crate::bvh_flat::{BvhNode, FlatBvh};
+use bytemuck::{Pod, Zeroable};
+use ggx_core::GgxConductor;
+use ggx_cpu::{Bsdf, stream_seed};
+use ggx_scene::{Emitter, Environment, LightStrategy, SamplerKind, Scene, ShadingNormals, Triangle};
+use glam::{Quat, Vec3};
+
+/// A material as the shader shades it, 112 bytes (WGSL `Material`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct MaterialRecord {
+    /// The conductor (or a plastic's coat), precomputed by ggx-core.
+    pub conductor: GgxConductor,
+    /// Albedo of a diffuse material or a plastic's base.
+    pub albedo: [f32; 3],
+    /// `MAT_DIFFUSE` (0), `MAT_CONDUCTOR` (1), `MAT_PLASTIC` (2) or `MAT_BLACK` (3).
+    pub kind: u32,
+    /// Emitted radiance (zero unless emissive).
+    pub emission: [f32; 3],
+    /// Coat index of refraction of a plastic.
+    pub ior: f32,
+    /// `ggx_core::Sampling` discriminant of the conductor or coat lobe.
+    pub sampling: u32,
+    /// Padding.
+    pub pad0: u32,
+    /// Padding.
+    pub pad1: u32,
+    /// Padding.
+    pub pad2: u32,
+}
+
+impl MaterialRecord {
+    /// The record of a ggx-cpu BSDF and its emission.
+    pub fn new(bsdf: &Bsdf, emission: Vec3) -> MaterialRecord {
+        let mut r = MaterialRecord::zeroed();
+        r.emission = emission.to_array();
+        r.kind = 3;
+        match *bsdf {
+            Bsdf::Diffuse { albedo } => (r.kind, r.albedo) = (0, albedo.to_array()),
+            Bsdf::Conductor { brdf, sampling } => (r.kind, r.conductor, r.sampling) = (1, brdf, sampling as u32),
+            Bsdf::Plastic { coat, ior, albedo, sampling } => {
+                (r.kind, r.conductor, r.ior, r.albedo, r.sampling) = (2, coat, ior, albedo.to_array(), sampling as u32)
+            }
+            Bsdf::Black => {}
+        }
+        r
+    }
+}
+
+/// Per-dispatch uniform (WGSL `Params`), 208 bytes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct Params {
+    /// Camera position.
+    pub cam_position: [f32; 3],
+    /// `tan(fov_y / 2)`.
+    pub tan_half_fov: f32,
+    /// Camera forward.
+    pub cam_forward: [f32; 3],
+    /// Width / height.
+    pub aspect: f32,
+    /// Camera right.
+    pub cam_right: [f32; 3],
+    /// Width as `f32`.
+    pub width_f: f32,
+    /// Camera up.
+    pub cam_up: [f32; 3],
+    /// Height as `f32`.
+    pub height_f: f32,
+    /// Radiance of a constant environment.
+    pub env_radiance: [f32; 3],
+    /// Multiplier of the environment map's texels.
+    pub env_scale: f32,
+    /// Quaternion taking world directions to map directions.
+    pub env_to_map: [f32; 4],
+    /// Quaternion taking map directions to world directions.
+    pub env_to_world: [f32; 4],
+    /// Image width.
+    pub width: u32,
+    /// Image height.
+    pub height: u32,
+    /// First row of this dispatch.
+    pub y0: u32,
+    /// Rows in this dispatch.
+    pub rows: u32,
+    /// First sample index of the pass.
+    pub s0: u32,
+    /// One past the last sample index of the pass.
+    pub s1: u32,
+    /// `SequenceKind` discriminant.
+    pub sequence: u32,
+    /// Stream seed ([`stream_seed`]).
+    pub seed: u32,
+    /// 0 BSDF sampling only, 1 next-event estimation, 2 MIS.
+    pub light_strategy: u32,
+    /// Maximum bounces.
+    pub max_depth: u32,
+    /// Depth from which Russian roulette applies (0 = never).
+    pub roulette_depth: u32,
+    /// 1 when bounces draw a lobe sample (the scene has plastics).
+    pub draw_lobe: u32,
+    /// Number of emitters.
+    pub emitter_count: u32,
+    /// 0 no environment, 1 constant, 2 map.
+    pub env_kind: u32,
+    /// Map columns.
+    pub env_width: u32,
+    /// Map rows.
+    pub env_height: u32,
+    /// Offset of the light CDF (`emitter_count + 1` values) in the table.
+    pub light_cdf: u32,
+    /// Offset of the map's cell weights.
+    pub env_func: u32,
+    /// Offset of the map's conditional CDFs.
+    pub env_conditional_cdf: u32,
+    /// Offset of the map's marginal CDF.
+    pub env_marginal_cdf: u32,
+    /// Offset of the map's texels (4 values each).
+    pub env_texels: u32,
+    /// Integral of the map's distribution over the square.
+    pub env_marginal_integral: f32,
+    /// Padding.
+    pub pad0: u32,
+    /// Padding.
+    pub pad1: u32,
+}
+
+/// Everything the shader reads, on the CPU.
+pub struct SceneTables {
+    /// Flattened BVH with triangles in leaf order.
+    pub bvh: FlatBvh,
+    /// Shading normals.
+    pub normals: Vec<ShadingNormals>,
+    /// One record per scene material.
+    pub materials: Vec<MaterialRecord>,
+    /// Emitters, `triangle` pointing into the leaf-order triangles.
+    pub emitters: Vec<Emitter>,
+    /// Light CDF, environment tables and texels.
+    pub table: Vec<f32>,
+    /// The uniform, `y0`, `rows`, `s0`, `s1` left zero.
+    pub params: Params,
+}
+
+impl SceneTables {
+    /// Flattens `scene`.
+    pub fn new(scene: &Scene) -> SceneTables {
+        let bvh = FlatBvh::build(&scene.mesh.triangles);
+        let strategy = scene.integrator.bsdf_sampling;
+        let materials =
+            scene.materials.iter().map(|m| MaterialRecord::new(&Bsdf::new(m, strategy), m.emission())).collect();
+        let mut leaf_of = vec![u32::MAX; scene.mesh.triangles.len()];
+        for (leaf, &t) in bvh.primitive_to_triangle.iter().enumerate().rev() {
+            if let Some(slot) = leaf_of.get_mut(t as usize) {
+                *slot = leaf as u32;
+            }
+        }
+        let emitters = scene
+            .lights
+            .emitters
+            .iter()
+            .map(|e| Emitter { triangle: leaf_of.get(e.triangle as usize).copied().unwrap_or(u32::MAX), ..*e })
+            .collect();
+        let cam = &scene.camera;
+        let [width, height] = cam.resolution;
+        let it = &scene.integrator;
+        let mut params = Params {
+            cam_position: cam.position.to_array(),
+            tan_half_fov: cam.tan_half_fov(),
+            cam_forward: cam.forward.to_array(),
+            aspect: cam.aspect(),
+            cam_right: cam.right.to_array(),
+            width_f: width as f32,
+            cam_up: cam.up.to_array(),
+            height_f: height as f32,
+            width,
+            height,
+            sequence: match it.sampler {
+                SamplerKind::Independent => 0,
+                SamplerKind::Sobol => 1,
+            },
+            seed: stream_seed(it.seed),
+            light_strategy: match it.light_strategy {
+                LightStrategy::Bsdf => 0,
+                LightStrategy::Nee => 1,
+                LightStrategy::Mis => 2,
+            },
+            max_depth: it.max_depth,
+            roulette_depth: it.russian_roulette,
+            draw_lobe: u32::from(scene.features.plastics),
+            emitter_count: scene.lights.emitters.len() as u32,
+            env_to_map: [0.0, 0.0, 0.0, 1.0],
+            env_to_world: [0.0, 0.0, 0.0, 1.0],
+            ..Params::zeroed()
+        };
+        let mut table = Vec::new();
+        params.light_cdf = push(&mut table, &scene.lights.distribution.cdf);
+        match &scene.environment {
+            None => {}
+            Some(Environment::Constant(l)) => (params.env_kind, params.env_radiance) = (1, l.to_array()),
+            Some(Environment::Map(m)) => {
+                let d = &m.distribution;
+                params.env_kind = 2;
+                (params.env_width, params.env_height, params.env_scale) = (m.width, m.height, m.scale);
+                params.env_to_map = Quat::from_rotation_y(-m.rotation).to_array();
+                params.env_to_world = Quat::from_rotation_y(m.rotation).to_array();
+                params.env_marginal_integral = d.marginal.integral;
+                params.env_func = push(&mut table, &d.func);
+                params.env_conditional_cdf = push(&mut table, &d.conditional_cdf);
+                params.env_marginal_cdf = push(&mut table, &d.marginal.cdf);
+                params.env_texels = push(&mut table, m.texels.as_flattened());
+            }
+        }
+        SceneTables { bvh, normals: scene.mesh.shading_normals.clone(), materials, emitters, table, params }
+    }
+
+    /// The nodes, never empty: an empty scene gets one inner node whose box nothing hits.
+    pub fn nodes(&self) -> Vec<BvhNode> {
+        if self.bvh.nodes.is_empty() {
+            return vec![BvhNode { min: [1.0; 3], prim_count: 0, max: [-1.0; 3], first_index: 0 }];
+        }
+        self.bvh.nodes.clone()
+    }
+
+    /// The leaf-order triangles (for the shader's bindings, at least one).
+    pub fn triangles(&self) -> Vec<Triangle> {
+        non_empty(&self.bvh.triangles)
+    }
+}
+
+/// `values` appended to `table`; returns their offset.
+fn push(table: &mut Vec<f32>, values: &[f32]) -> u32 {
+    let offset = table.len() as u32;
+    table.extend_from_slice(values);
+    offset
+}
+
+/// `values`, or one zeroed record when empty (bindings cannot be empty).
+pub fn non_empty<T: Pod>(values: &[T]) -> Vec<T> {
+    if values.is_empty() { vec![T::zeroed()] } else { values.to_vec() }
+}

@@ -1,0 +1,341 @@
+// ggx path tracer, part 2: ggx-cpu's Bsdf (bsdf.rs), integrator (integrator.rs) and render
+// loop (render.rs), one thread per pixel. Expects ggx_core.wgsl and scene.wgsl in front of it.
+
+// Kernel variant, like ggx-cpu's const generics: features compiled out when the scene lacks them.
+override AREA: bool = true;
+override ENV: bool = true;
+override PLASTIC: bool = true;
+
+const MAT_DIFFUSE: u32 = 0u;
+const MAT_CONDUCTOR: u32 = 1u;
+const MAT_PLASTIC: u32 = 2u;
+const MAT_BLACK: u32 = 3u;
+const LIGHT_BSDF: u32 = 0u;
+const LIGHT_MIS: u32 = 2u;
+const SHADOW_SCALE: f32 = 1.0f - 1e-3f;
+
+// Rec. 709 luminance: 0.2126 R + 0.7152 G + 0.0722 B, in glam's dot order.
+fn luminance(c: vec3<f32>) -> f32 {
+    return dot3(c, vec3(0.2126f, 0.7152f, 0.0722f));
+}
+
+// Coat probability of a plastic: F / (F + (1 - F) lum(albedo)) in [0.05, 0.95], 1 for a black base.
+fn coat_probability(fo: f32, albedo: vec3<f32>) -> f32 {
+    let base = (1.0 - fo) * luminance(albedo);
+    if base <= 0.0 {
+        return 1.0;
+    }
+    return min_num(max_num(fo / (fo + base), 0.05f), 0.95f);
+}
+
+// Bsdf::eval: f(wo, wi) |wi.z|; plastic f = f_coat + (1 - F(wo.z)) (1 - F(wi.z)) albedo / pi.
+fn bsdf_eval(m: Material, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
+    if wo.z <= 0.0 || wi.z <= 0.0 {
+        return vec3(0.0);
+    }
+    if m.kind == MAT_DIFFUSE {
+        return m.albedo * (wi.z * FRAC_1_PI);
+    } else if m.kind == MAT_CONDUCTOR {
+        return ggx_conductor_eval(m.conductor, wo, wi);
+    } else if PLASTIC && m.kind == MAT_PLASTIC {
+        let t = (1.0 - fresnel_dielectric(wo.z, m.ior)) * (1.0 - fresnel_dielectric(wi.z, m.ior));
+        return ggx_conductor_eval(m.conductor, wo, wi) + m.albedo * (t * wi.z * FRAC_1_PI);
+    }
+    return vec3(0.0);
+}
+
+// Bsdf::pdf: solid-angle density of bsdf_sample; plastic p pdf_coat + (1 - p) pdf_cosine.
+fn bsdf_pdf(m: Material, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
+    if wo.z <= 0.0 || wi.z <= 0.0 {
+        return 0.0;
+    }
+    if m.kind == MAT_DIFFUSE {
+        return pdf_cosine_hemisphere(wi);
+    } else if m.kind == MAT_CONDUCTOR {
+        return ggx_conductor_pdf(m.conductor, wo, wi, m.sampling);
+    } else if PLASTIC && m.kind == MAT_PLASTIC {
+        let p = coat_probability(fresnel_dielectric(wo.z, m.ior), m.albedo);
+        return p * ggx_conductor_pdf(m.conductor, wo, wi, m.sampling) + (1.0 - p) * pdf_cosine_hemisphere(wi);
+    }
+    return 0.0;
+}
+
+// Bsdf::sample: cosine lobe, GGX conductor, or the plastic's one-sample mixture (weight = eval / mixture pdf).
+fn bsdf_sample(m: Material, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> BsdfSample {
+    var none: BsdfSample;
+    if wo.z <= 0.0 {
+        return none;
+    }
+    if m.kind == MAT_DIFFUSE {
+        let wi = sample_cosine_hemisphere(u);
+        return BsdfSample(wi, m.albedo, pdf_cosine_hemisphere(wi), 0u, 1u);
+    } else if m.kind == MAT_CONDUCTOR {
+        return ggx_conductor_sample(m.conductor, wo, u, m.sampling);
+    } else if PLASTIC && m.kind == MAT_PLASTIC {
+        let p = coat_probability(fresnel_dielectric(wo.z, m.ior), m.albedo);
+        var wi: vec3<f32>;
+        if u_lobe < p {
+            let s = ggx_conductor_sample(m.conductor, wo, u, m.sampling);
+            if s.valid == 0u {
+                return none;
+            }
+            if s.is_delta != 0u {
+                return BsdfSample(s.wi, s.weight / p, p, s.is_delta, 1u);
+            }
+            wi = s.wi;
+        } else {
+            wi = sample_cosine_hemisphere(u);
+        }
+        let pdf = bsdf_pdf(m, wo, wi);
+        if !(pdf > 0.0) {
+            return none;
+        }
+        return BsdfSample(wi, bsdf_eval(m, wo, wi) / pdf, pdf, 0u, 1u);
+    }
+    return none;
+}
+
+// Bsdf::is_delta: a mirror conductor.
+fn bsdf_is_delta(m: Material) -> bool {
+    return m.kind == MAT_CONDUCTOR && ggx_conductor_is_delta(m.conductor);
+}
+
+// Shading frame with x = normalize(y_world x n) along latitude circles; Duff et al. 2017 within ~0.5 degrees of the poles.
+fn shading_frame(n: vec3<f32>) -> Frame {
+    let t = cross3(vec3(0.0, 1.0, 0.0), n);
+    let len2 = dot3(t, t);
+    if len2 < 1e-4f {
+        return frame_from_z(n);
+    }
+    let x = t / sqrt(len2);
+    return Frame(x, cross3(n, x), n);
+}
+
+// Wachter & Binder 2019: move p by 256 n ulps per coordinate, or by n / 65536 within 1/32 of the origin.
+fn offset_coord(p: f32, n: f32) -> f32 {
+    let of_i = i32(256.0 * n);
+    let moved = bitcast<f32>(bitcast<i32>(p) + select(of_i, -of_i, p < 0.0));
+    return select(moved, p + (1.0f / 65536.0f) * n, abs(p) < 1.0f / 32.0f);
+}
+
+// offset_ray_origin: offset_coord on each axis.
+fn offset_ray_origin(p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    return vec3(offset_coord(p.x, n.x), offset_coord(p.y, n.y), offset_coord(p.z, n.z));
+}
+
+struct BounceSamples {
+    bsdf: vec2<f32>,
+    lobe: f32,
+    light: vec2<f32>,
+    pick: f32,
+    roulette: f32,
+}
+
+// BounceSamples::draw: bsdf 2D, then lobe, light 2D, light pick and roulette only where the scene uses them.
+fn draw_bounce(stream: ptr<function, SampleStream>, lobe: bool, light: bool, pick: bool, roulette: bool) -> BounceSamples {
+    var s = BounceSamples(sample_stream_next_2d(stream), 0.5, vec2(0.0), 0.0, 0.5);
+    if lobe {
+        s.lobe = sample_stream_next_1d(stream);
+    }
+    if light {
+        s.light = sample_stream_next_2d(stream);
+    }
+    if pick {
+        s.pick = sample_stream_next_1d(stream);
+    }
+    if roulette {
+        s.roulette = sample_stream_next_1d(stream);
+    }
+    return s;
+}
+
+// integrator.rs `trace`: radiance along a camera ray (NEE + power-heuristic MIS, Russian roulette); rays counts traced rays.
+fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleStream>, rays: ptr<function, u32>) -> vec3<f32> {
+    let use_nee = params.light_strategy != LIGHT_BSDF;
+    let use_mis = params.light_strategy == LIGHT_MIS;
+    let has_area = AREA && params.emitter_count > 0u;
+    let has_env = ENV && params.env_kind != ENV_NONE;
+    var p_area = 0.0f;
+    if has_area && has_env {
+        p_area = 0.5;
+    } else if has_area {
+        p_area = 1.0;
+    }
+    let p_env = select(0.0, 1.0 - p_area, has_env);
+    let draw_light = use_nee && (has_area || has_env);
+    let draw_pick = use_nee && has_area && has_env;
+
+    var origin = origin_in;
+    var dir = dir_in;
+    var radiance = vec3(0.0);
+    var beta = vec3(1.0);
+    var prev_pdf = 0.0f;
+    var prev_delta = true;
+    var depth = 0u;
+    loop {
+        *rays += 1u;
+        var ray = make_ray(origin, dir, inf_f32());
+        let prim = traverse(&ray, false);
+        if prim == NO_INDEX {
+            if has_env {
+                let le = env_radiance(dir);
+                var w = 0.0f;
+                if prev_delta || !use_nee {
+                    w = 1.0;
+                } else if use_mis {
+                    w = power_heuristic(1.0, prev_pdf, 1.0, p_env * env_pdf(dir));
+                }
+                radiance += beta * le * w;
+            }
+            break;
+        }
+        let t_hit = ray.tmax;
+        let tri = triangles[prim];
+        var ng = geometric_normal(tri);
+        let p = origin + dir * t_hit;
+        let m = materials[tri.material];
+
+        if AREA && tri.emitter != NO_INDEX {
+            let cos_l = -dot3(ng, dir);
+            if cos_l > 0.0 {
+                var w = 0.0f;
+                if prev_delta || !use_nee {
+                    w = 1.0;
+                } else if use_mis {
+                    w = power_heuristic(1.0, prev_pdf, 1.0, p_area * pdf_area(tri.emitter) * t_hit * t_hit / cos_l);
+                }
+                radiance += beta * m.emission * w;
+            }
+        }
+        if !PLASTIC && m.kind == MAT_PLASTIC {
+            break;
+        }
+        if depth >= params.max_depth || m.kind == MAT_BLACK {
+            break;
+        }
+        let roulette = params.roulette_depth > 0u && depth + 1u >= params.roulette_depth;
+        let s = draw_bounce(stream, params.draw_lobe != 0u, draw_light, draw_pick, roulette);
+
+        if dot3(ng, dir) > 0.0 {
+            ng = -ng;
+        }
+        var ns = ng;
+        if tri.normals != NO_INDEX && tri.normals < arrayLength(&shading_normals) {
+            let b = barycentrics(tri, origin, dir);
+            let n = interpolate_normal(shading_normals[tri.normals], b.x, b.y);
+            ns = select(n, -n, dot3(n, ng) < 0.0);
+        }
+        let frame = shading_frame(ns);
+        let wo = frame_to_local(frame, -dir);
+        if wo.z <= 0.0 {
+            break;
+        }
+        let p_out = offset_ray_origin(p, ng);
+
+        if use_nee && !bsdf_is_delta(m) {
+            let pick_area = has_area && s.pick < p_area;
+            if AREA && pick_area {
+                let u_emitter = select(s.pick, s.pick / p_area, p_area < 1.0);
+                let e = sample_emitter(u_emitter);
+                let light_tri = triangles[emitters[e].triangle];
+                let pl = sample_triangle(light_tri, s.light);
+                let to_light = pl - p_out;
+                let dist2 = dot3(to_light, to_light);
+                let dist = sqrt(dist2);
+                let wi_world = to_light / dist;
+                let cos_l = -dot3(geometric_normal(light_tri), wi_world);
+                let wi = frame_to_local(frame, wi_world);
+                if cos_l > 0.0 && wi.z > 0.0 && dot3(wi_world, ng) > 0.0 && dist > 0.0 {
+                    let pdf_light = p_area * pdf_area(e) * dist2 / cos_l;
+                    let f = bsdf_eval(m, wo, wi);
+                    if any(f != vec3(0.0)) && pdf_light > 0.0 && is_finite(pdf_light) {
+                        *rays += 1u;
+                        if unoccluded(p_out, wi_world, dist * SHADOW_SCALE) {
+                            let le = materials[light_tri.material].emission;
+                            var w = 1.0f;
+                            if use_mis {
+                                w = power_heuristic(1.0, pdf_light, 1.0, bsdf_pdf(m, wo, wi));
+                            }
+                            radiance += beta * f * le * (w / pdf_light);
+                        }
+                    }
+                }
+            } else if ENV && has_env {
+                let sample = env_sample(s.light);
+                let wi_world = sample.xyz;
+                let pdf_light = p_env * sample.w;
+                let wi = frame_to_local(frame, wi_world);
+                if wi.z > 0.0 && dot3(wi_world, ng) > 0.0 && pdf_light > 0.0 && is_finite(pdf_light) {
+                    let f = bsdf_eval(m, wo, wi);
+                    if any(f != vec3(0.0)) {
+                        *rays += 1u;
+                        if unoccluded(p_out, wi_world, inf_f32()) {
+                            var w = 1.0f;
+                            if use_mis {
+                                w = power_heuristic(1.0, pdf_light, 1.0, bsdf_pdf(m, wo, wi));
+                            }
+                            radiance += beta * f * env_radiance(wi_world) * (w / pdf_light);
+                        }
+                    }
+                }
+            }
+        }
+
+        let bs = bsdf_sample(m, wo, s.lobe, s.bsdf);
+        if bs.valid == 0u {
+            break;
+        }
+        let wi_world = frame_to_world(frame, bs.wi);
+        if dot3(wi_world, ng) <= 0.0 {
+            break;
+        }
+        beta *= bs.weight;
+        prev_pdf = bs.pdf;
+        prev_delta = bs.is_delta != 0u;
+        origin = p_out;
+        dir = wi_world;
+        depth += 1u;
+
+        if params.roulette_depth > 0u && depth >= params.roulette_depth {
+            let mx = max_num(beta.x, max_num(beta.y, beta.z));
+            if mx < 1.0 {
+                let q = max_num(1.0 - mx, 0.0);
+                if s.roulette < q {
+                    break;
+                }
+                beta /= 1.0 - q;
+            }
+        }
+        if !is_finite3(beta) || all(beta == vec3(0.0)) {
+            break;
+        }
+    }
+    return select(vec3(0.0), radiance, is_finite3(radiance));
+}
+
+// Camera::generate_ray direction: normalize(forward + x tan aspect right + y tan up), x = 2 px / w - 1, y = 1 - 2 py / h.
+fn camera_dir(px: vec2<f32>) -> vec3<f32> {
+    let x = (2.0 * px.x / params.width_f - 1.0) * params.tan_half_fov * params.aspect;
+    let y = (1.0 - 2.0 * px.y / params.height_f) * params.tan_half_fov;
+    let d = params.cam_forward + x * params.cam_right + y * params.cam_up;
+    return d * (1.0 / sqrt(dot3(d, d)));
+}
+
+// render.rs `render_tile` for one pixel: sum of samples [s0, s1), each on SampleStream(kind, seed, pixel, s); w = rays (bits).
+@compute @workgroup_size(8, 8)
+fn render(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if gid.x >= params.width || gid.y >= params.rows {
+        return;
+    }
+    let y = params.y0 + gid.y;
+    let pixel = y * params.width + gid.x;
+    var sum = vec3(0.0);
+    var rays = 0u;
+    for (var s = params.s0; s < params.s1; s++) {
+        var stream = sample_stream_new(params.sequence, params.seed, pixel, s);
+        let jitter = sample_stream_next_2d(&stream);
+        let px = vec2(f32(gid.x), f32(y)) + jitter;
+        sum += trace(params.cam_position, camera_dir(px), &stream, &rays);
+    }
+    output[pixel] = vec4(sum, bitcast<f32>(rays));
+}

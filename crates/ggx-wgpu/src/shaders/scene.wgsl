@@ -1,0 +1,402 @@
+// ggx path tracer, part 1: scene bindings, BVH2 traversal (obvhs's ray_traverse_dynamic),
+// area lights and the environment (ggx-scene). Expects ggx_core.wgsl in front of it.
+
+const STACK_SIZE: u32 = 64u;
+const NO_INDEX: u32 = 0xffffffffu;
+const FLT_EPSILON: f32 = 1.1920929e-7f;
+const ENV_NONE: u32 = 0u;
+const ENV_CONSTANT: u32 = 1u;
+const ENV_MAP: u32 = 2u;
+
+struct Params {
+    cam_position: vec3<f32>,
+    tan_half_fov: f32,
+    cam_forward: vec3<f32>,
+    aspect: f32,
+    cam_right: vec3<f32>,
+    width_f: f32,
+    cam_up: vec3<f32>,
+    height_f: f32,
+    env_radiance: vec3<f32>,
+    env_scale: f32,
+    env_to_map: vec4<f32>,
+    env_to_world: vec4<f32>,
+    width: u32,
+    height: u32,
+    y0: u32,
+    rows: u32,
+    s0: u32,
+    s1: u32,
+    sequence: u32,
+    seed: u32,
+    light_strategy: u32,
+    max_depth: u32,
+    roulette_depth: u32,
+    draw_lobe: u32,
+    emitter_count: u32,
+    env_kind: u32,
+    env_width: u32,
+    env_height: u32,
+    light_cdf: u32,
+    env_func: u32,
+    env_conditional_cdf: u32,
+    env_marginal_cdf: u32,
+    env_texels: u32,
+    env_marginal_integral: f32,
+    pad0: u32,
+    pad1: u32,
+}
+
+struct BvhNode {
+    min: vec3<f32>,
+    prim_count: u32,
+    max: vec3<f32>,
+    first_index: u32,
+}
+
+struct Triangle {
+    v0: vec3<f32>,
+    material: u32,
+    v1: vec3<f32>,
+    normals: u32,
+    v2: vec3<f32>,
+    emitter: u32,
+}
+
+struct ShadingNormals {
+    normals: array<vec4<f32>, 3>,
+}
+
+struct Material {
+    conductor: GgxConductor,
+    albedo: vec3<f32>,
+    kind: u32,
+    emission: vec3<f32>,
+    ior: f32,
+    sampling: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+}
+
+struct Emitter {
+    triangle: u32,
+    light: u32,
+    area: f32,
+    pmf: f32,
+}
+
+struct CdfPick {
+    index: u32,
+    du: f32,
+}
+
+struct Ray {
+    origin: vec3<f32>,
+    dir: vec3<f32>,
+    inv_dir: vec3<f32>,
+    tmax: f32,
+}
+
+@group(0) @binding(0) var<uniform> params: Params;
+@group(0) @binding(1) var<storage, read> nodes: array<BvhNode>;
+@group(0) @binding(2) var<storage, read> triangles: array<Triangle>;
+@group(0) @binding(3) var<storage, read> shading_normals: array<ShadingNormals>;
+@group(0) @binding(4) var<storage, read> materials: array<Material>;
+@group(0) @binding(5) var<storage, read> emitters: array<Emitter>;
+@group(0) @binding(6) var<storage, read> table: array<f32>;
+@group(0) @binding(7) var<storage, read_write> output: array<vec4<f32>>;
+
+// glam's normalize_or_zero: v (1 / |v|) when that is finite and positive, else 0.
+fn glam_normalize_or_zero(v: vec3<f32>) -> vec3<f32> {
+    let rcp = 1.0 / sqrt(dot3(v, v));
+    return select(vec3(0.0), v * rcp, is_finite(rcp) && rcp > 0.0);
+}
+
+// Triangle::geometric_normal: normalize((v1 - v0) x (v2 - v0)), 0 when degenerate.
+fn geometric_normal(tri: Triangle) -> vec3<f32> {
+    return glam_normalize_or_zero(cross3(tri.v1 - tri.v0, tri.v2 - tri.v0));
+}
+
+// ShadingNormals::interpolate: normalize(b0 n0 + b1 n1 + b2 n2), b0 = 1 - b1 - b2.
+fn interpolate_normal(n: ShadingNormals, b1: f32, b2: f32) -> vec3<f32> {
+    let v = (1.0 - b1 - b2) * n.normals[0].xyz + b1 * n.normals[1].xyz + b2 * n.normals[2].xyz;
+    return glam_normalize_or_zero(v);
+}
+
+// obvhs safe_inverse: 1 / x, or sign(x) / EPSILON when |x| <= EPSILON (+-0 give +-1 / EPSILON).
+fn safe_inverse(x: f32) -> f32 {
+    if abs(x) <= FLT_EPSILON {
+        return copysign(1.0, x) / FLT_EPSILON;
+    }
+    return 1.0 / x;
+}
+
+// Ray::new: origin, direction, per-axis safe inverse, t in [0, tmax].
+fn make_ray(origin: vec3<f32>, dir: vec3<f32>, tmax: f32) -> Ray {
+    return Ray(origin, dir, vec3(safe_inverse(dir.x), safe_inverse(dir.y), safe_inverse(dir.z)), tmax);
+}
+
+// Slab test (Aabb::intersect_ray): entry t = max of per-axis min(t1, t2) if the slabs overlap ahead, else infinity.
+fn aabb_intersect(node: BvhNode, ray: Ray) -> f32 {
+    let t1 = (node.min - ray.origin) * ray.inv_dir;
+    let t2 = (node.max - ray.origin) * ray.inv_dir;
+    let lo = min(t1, t2);
+    let hi = max(t1, t2);
+    let tmin = max(max(lo.x, lo.y), lo.z);
+    let tmax = min(min(hi.x, hi.y), hi.z);
+    if tmax >= tmin && tmax >= 0.0 {
+        return tmin;
+    }
+    return inf_f32();
+}
+
+// Moller-Trumbore as obvhs writes it: e1 = v0 - v1, e2 = v2 - v0, u, v, w = 1 - u - v all sign-bit clear, t in [0, tmax].
+fn triangle_intersect(tri: Triangle, ray: Ray) -> f32 {
+    let e1 = tri.v0 - tri.v1;
+    let e2 = tri.v2 - tri.v0;
+    let n = cross3(e1, e2);
+    let c = tri.v0 - ray.origin;
+    let r = cross3(ray.dir, c);
+    let inv_det = 1.0 / dot3(n, ray.dir);
+    let u = dot3(r, e2) * inv_det;
+    let v = dot3(r, e1) * inv_det;
+    let w = 1.0 - u - v;
+    let signs = (bitcast<u32>(u) | bitcast<u32>(v) | bitcast<u32>(w)) & 0x80000000u;
+    if inv_det != 0.0 && signs == 0u {
+        let t = dot3(n, c) * inv_det;
+        if t >= 0.0 && t <= ray.tmax {
+            return t;
+        }
+    }
+    return inf_f32();
+}
+
+// Tests a leaf's triangles in order, the nearest so far shrinking tmax; false stops the walk (any-hit found one).
+fn intersect_leaf(node: BvhNode, ray: ptr<function, Ray>, hit: ptr<function, u32>, any_hit: bool) -> bool {
+    for (var p = node.first_index; p < node.first_index + node.prim_count; p++) {
+        let t = triangle_intersect(triangles[p], *ray);
+        if t < (*ray).tmax {
+            *hit = p;
+            if any_hit {
+                return false;
+            }
+            (*ray).tmax = t;
+        }
+    }
+    return true;
+}
+
+// Stack-based BVH2 walk (obvhs ray_traverse_dynamic): nearer child first, leaves tested on arrival. Returns the hit leaf-order triangle or NO_INDEX; ray.tmax ends at the hit t.
+fn traverse(ray: ptr<function, Ray>, any_hit: bool) -> u32 {
+    var hit = NO_INDEX;
+    let root = nodes[0];
+    if aabb_intersect(root, *ray) >= (*ray).tmax {
+        return hit;
+    }
+    if root.prim_count > 0u {
+        intersect_leaf(root, ray, &hit, any_hit);
+        return hit;
+    }
+    var stack: array<u32, STACK_SIZE>;
+    var sp = 0u;
+    var current = root.first_index;
+    loop {
+        var left = nodes[current];
+        var right = nodes[current + 1u];
+        var left_t = aabb_intersect(left, *ray);
+        var right_t = aabb_intersect(right, *ray);
+        if left_t > right_t {
+            let n = left;
+            left = right;
+            right = n;
+            let t = left_t;
+            left_t = right_t;
+            right_t = t;
+        }
+        var go_left = left_t < (*ray).tmax;
+        if go_left && left.prim_count > 0u {
+            if !intersect_leaf(left, ray, &hit, any_hit) {
+                return hit;
+            }
+            go_left = false;
+        }
+        var go_right = right_t < (*ray).tmax;
+        if go_right && right.prim_count > 0u {
+            if !intersect_leaf(right, ray, &hit, any_hit) {
+                return hit;
+            }
+            go_right = false;
+        }
+        if go_left && go_right {
+            current = left.first_index;
+            stack[min(sp, STACK_SIZE - 1u)] = right.first_index;
+            sp = min(sp + 1u, STACK_SIZE);
+        } else if go_left {
+            current = left.first_index;
+        } else if go_right {
+            current = right.first_index;
+        } else {
+            if sp == 0u {
+                return hit;
+            }
+            sp -= 1u;
+            current = stack[sp];
+        }
+    }
+    return hit;
+}
+
+// Accel::unoccluded: no triangle in t in [0, tmax].
+fn unoccluded(origin: vec3<f32>, dir: vec3<f32>, tmax: f32) -> bool {
+    var ray = make_ray(origin, dir, tmax);
+    return traverse(&ray, true) == NO_INDEX;
+}
+
+// Barycentrics (b1, b2) on the triangle's plane, Moller & Trumbore: b1 = (s.p) / det, b2 = (d.q) / det, clamped into the triangle.
+fn barycentrics(tri: Triangle, origin: vec3<f32>, dir: vec3<f32>) -> vec2<f32> {
+    let e1 = tri.v1 - tri.v0;
+    let e2 = tri.v2 - tri.v0;
+    let p = cross3(dir, e2);
+    let det = dot3(e1, p);
+    if det == 0.0 || !is_finite(det) {
+        return vec2(0.0);
+    }
+    let inv = 1.0 / det;
+    let s = origin - tri.v0;
+    let q = cross3(s, e1);
+    let b1 = min_num(max_num(dot3(s, p) * inv, 0.0), 1.0);
+    let b2 = min_num(max_num(dot3(dir, q) * inv, 0.0), 1.0 - b1);
+    return vec2(b1, b2);
+}
+
+// Segment i with cdf[i] <= u < cdf[i + 1] of a table of len values at offset (partition_point), and u's offset in it.
+fn invert_cdf(offset: u32, len: u32, u_in: f32) -> CdfPick {
+    let n = len - 1u;
+    let u = select(min_num(max_num(u_in, 0.0), ONE_MINUS_EPSILON), 0.0, is_nan(u_in));
+    var lo = 0u;
+    var hi = len;
+    while lo < hi {
+        let mid = (lo + hi) / 2u;
+        if table[offset + mid] <= u {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    let i = min(max(lo, 1u) - 1u, n - 1u);
+    let width = table[offset + i + 1u] - table[offset + i];
+    var du = 0.5f;
+    if width > 0.0 {
+        du = min_num(max_num((u - table[offset + i]) / width, 0.0), ONE_MINUS_EPSILON);
+    }
+    return CdfPick(i, du);
+}
+
+// AreaLights::sample: emitter index by inverting the power CDF at u.
+fn sample_emitter(u: f32) -> u32 {
+    return invert_cdf(params.light_cdf, params.emitter_count + 1u, u).index;
+}
+
+// AreaLights::pdf_area: pmf / area.
+fn pdf_area(e: u32) -> f32 {
+    let emitter = emitters[e];
+    return emitter.pmf / emitter.area;
+}
+
+// Uniform point on a triangle (Turk 1990): b0 = 1 - sqrt(u0), b1 = sqrt(u0) (1 - u1), b2 = sqrt(u0) u1.
+fn sample_triangle(tri: Triangle, u: vec2<f32>) -> vec3<f32> {
+    let su = sqrt(max_num(u.x, 0.0));
+    return tri.v0 * (1.0 - su) + tri.v1 * (su * (1.0 - u.y)) + tri.v2 * (su * u.y);
+}
+
+// glam Quat * Vec3: v (w^2 - b.b) + b 2 (v.b) + (b x v) 2 w with b = q.xyz.
+fn quat_rotate(q: vec4<f32>, v: vec3<f32>) -> vec3<f32> {
+    let b = q.xyz;
+    let b2 = dot3(b, b);
+    return v * (q.w * q.w - b2) + b * (dot3(v, b) * 2.0) + cross3(b, v) * (q.w * 2.0);
+}
+
+// Uniform direction on the sphere: z = 1 - 2 u.x, phi = 2 pi u.y.
+fn uniform_sphere(u: vec2<f32>) -> vec3<f32> {
+    let z = 1.0 - 2.0 * u.x;
+    let r = sqrt(max_num(1.0 - z * z, 0.0));
+    let phi = TAU * u.y;
+    return vec3(r * cos(phi), r * sin(phi), z);
+}
+
+// Equirectangular (u, v) of unit d: u = atan2(d.z, d.x) / (2 pi) in [0, 1), v = acos(d.y) / pi.
+fn direction_to_uv(d: vec3<f32>) -> vec2<f32> {
+    let phi = atan2(d.z, d.x);
+    var u = phi / TAU;
+    if phi < 0.0 {
+        u = phi / TAU + 1.0;
+    }
+    return vec2(select(u, 0.0, u >= 1.0), acos(min_num(max_num(d.y, -1.0), 1.0)) * FRAC_1_PI);
+}
+
+// d = (sin t cos p, cos t, sin t sin p) with p = 2 pi u, t = pi v.
+fn uv_to_direction(uv: vec2<f32>) -> vec3<f32> {
+    let t = PI * uv.y;
+    let p = TAU * uv.x;
+    return vec3(sin(t) * cos(p), cos(t), sin(t) * sin(p));
+}
+
+// Distribution2D::cell_pdf: func[cell] / marginal integral.
+fn env_cell_pdf(col: u32, row: u32) -> f32 {
+    return table[params.env_func + row * params.env_width + col] / params.env_marginal_integral;
+}
+
+// EnvMap::solid_angle_pdf: p(u, v) / (2 pi^2 sin theta), 0 at the poles.
+fn env_solid_angle_pdf(col: u32, row: u32, sin_theta: f32) -> f32 {
+    if sin_theta <= 0.0 {
+        return 0.0;
+    }
+    return env_cell_pdf(col, row) / (2.0 * PI * PI * sin_theta);
+}
+
+// Column and row of the texel seen along unit map-space d.
+fn env_cell(d: vec3<f32>) -> vec2<u32> {
+    let uv = direction_to_uv(d);
+    let col = min(u32(uv.x * f32(params.env_width)), params.env_width - 1u);
+    let row = min(u32(uv.y * f32(params.env_height)), params.env_height - 1u);
+    return vec2(col, row);
+}
+
+// Environment::radiance: the constant, or scale times the nearest texel.
+fn env_radiance(dir: vec3<f32>) -> vec3<f32> {
+    if params.env_kind == ENV_CONSTANT {
+        return params.env_radiance;
+    }
+    let c = env_cell(quat_rotate(params.env_to_map, dir));
+    let i = params.env_texels + 4u * (c.y * params.env_width + c.x);
+    return params.env_scale * vec3(table[i], table[i + 1u], table[i + 2u]);
+}
+
+// Environment::pdf: 1 / (4 pi), or the map's solid-angle density.
+fn env_pdf(dir: vec3<f32>) -> f32 {
+    if params.env_kind == ENV_CONSTANT {
+        return 0.25 * FRAC_1_PI;
+    }
+    let d = quat_rotate(params.env_to_map, dir);
+    let c = env_cell(d);
+    return env_solid_angle_pdf(c.x, c.y, sqrt(max_num(1.0 - d.y * d.y, 0.0)));
+}
+
+// Environment::sample: (direction, pdf) in a vec4; uniform sphere, or row then column of the map's Distribution2D.
+fn env_sample(u: vec2<f32>) -> vec4<f32> {
+    if params.env_kind == ENV_CONSTANT {
+        return vec4(uniform_sphere(u), 0.25 * FRAC_1_PI);
+    }
+    let w = params.env_width;
+    let h = params.env_height;
+    let m = invert_cdf(params.env_marginal_cdf, h + 1u, u.y);
+    let row = m.index;
+    let y = min_num((f32(row) + m.du) / f32(h), ONE_MINUS_EPSILON);
+    let c = invert_cdf(params.env_conditional_cdf + row * (w + 1u), w + 1u, u.x);
+    let col = c.index;
+    let x = min_num((f32(col) + c.du) / f32(w), ONE_MINUS_EPSILON);
+    let d = uv_to_direction(vec2(x, y));
+    let pdf = env_solid_angle_pdf(col, row, sin(PI * y));
+    return vec4(quat_rotate(params.env_to_world, d), pdf);
+}
