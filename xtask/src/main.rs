@@ -2,10 +2,17 @@
 //! (the rust-analyzer convention). Commands:
 //!
 //! * `ci`: everything CI checks, in order, stopping at the first failure: rustfmt, clippy
-//!   with `-D warnings`, the `no_std` build proof, the whole test suite, and `stress --quick`.
+//!   with `-D warnings`, the `no_std` build proof, the whole test suite, then `stress --quick`,
+//!   `diff --quick` and `bench --quick`.
+//! * `diff [SCENES...]`: every scene rendered on the CPU and wgpu backends with the same seed,
+//!   compared against per-scene tolerances (see [`diff`]).
+//! * `bench`: run time against error, the convergence study (see [`bench`]).
 //! * `stress [--quick] [--samples N]`: the numerical stability sweep of ggx-core's samplers
 //!   (see [`stress`]).
 
+mod bench;
+mod diff;
+mod render;
 mod stress;
 
 use std::process::{Command, ExitCode};
@@ -14,7 +21,15 @@ use std::time::Instant;
 /// Printed for an unknown command or bad arguments.
 const USAGE: &str = "usage: cargo xtask <command>
 
-  ci                             rustfmt check, clippy -D warnings, no_std build check, all tests, stress --quick
+  ci                             rustfmt check, clippy -D warnings, no_std build check, all tests,
+                                 stress --quick, diff --quick, bench --quick
+  diff [--quick] [--width W] [--spp N] [SCENES...]
+                                 render each scene (default: all) on the CPU and wgpu backends with the
+                                 same seed; EXRs, false-colour difference PNGs and report.md under
+                                 target/xtask/diff/; fails when a scene exceeds its tolerances
+                                 (scenes/tolerances.toml)
+  bench [--quick] [...]          convergence study: error against time and spp per configuration;
+                                 CSV, SVG plots and summary.md under target/xtask/bench/ (see --help)
   stress [--quick] [--samples N] numerical stress sweep of ggx-core's samplers: N samples per method
                                  (default 1e8; --quick: 1e6); fails on any NaN/inf or invalid accepted sample";
 
@@ -27,6 +42,8 @@ fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
         Some("ci") => ci(),
+        Some("diff") => diff::run(&args[1..]),
+        Some("bench") => bench::run(&args[1..]),
         Some("stress") => match stress::Options::parse(&args[1..]) {
             Ok(options) => stress::run(&options),
             Err(e) => {
@@ -59,6 +76,15 @@ fn cargo(args: &[&str]) -> Result<(), String> {
     if status.success() { Ok(()) } else { Err(format!("`{line}` failed ({status})")) }
 }
 
+/// Runs an xtask command in this process, timed like [`cargo`].
+fn in_process(what: &str, f: impl FnOnce() -> Result<(), String>) -> Result<(), String> {
+    eprintln!("\n==> {what} (in process)");
+    let start = Instant::now();
+    let result = f();
+    eprintln!("<== {what}: {:.1} s", start.elapsed().as_secs_f64());
+    result.map_err(|e| format!("{what}: {e}"))
+}
+
 fn ci() -> Result<(), String> {
     let start = Instant::now();
     cargo(&["fmt", "--all", "--check"])?;
@@ -73,6 +99,8 @@ fn ci() -> Result<(), String> {
     let stress_start = Instant::now();
     stress::run(&stress::Options::quick())?;
     eprintln!("<== stress --quick: {:.1} s", stress_start.elapsed().as_secs_f64());
+    in_process("diff --quick", || diff::run(&["--quick".into()]))?;
+    in_process("bench --quick", || bench::run(&["--quick".into()]))?;
     eprintln!("\nxtask ci: all checks passed in {:.0} s", start.elapsed().as_secs_f64());
     Ok(())
 }
