@@ -121,7 +121,15 @@ mod tests {
     use ggx_scene::BsdfStrategy;
 
     fn rung(spp: u32, seconds: f64, rel_mse: f64) -> Rung {
-        Rung { spp, seconds, rmse: rel_mse.sqrt(), rel_mse, camera_samples: u64::from(spp) * 100, rays: 0 }
+        Rung {
+            spp,
+            seconds,
+            rmse: rel_mse.sqrt(),
+            rel_mse,
+            rel_mse_trimmed: rel_mse,
+            camera_samples: u64::from(spp) * 100,
+            rays: 0,
+        }
     }
 
     /// relMSE = 1 / spp, `seconds_per_spp` seconds per spp.

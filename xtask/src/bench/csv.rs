@@ -3,7 +3,7 @@
 use super::ladder::Series;
 
 /// The header line.
-pub const HEADER: &str = "scene,config,axis,backend,spp,seconds,rmse,rel_mse,camera_samples,rays";
+pub const HEADER: &str = "scene,config,axis,backend,spp,seconds,rmse,rel_mse,rel_mse_trimmed,camera_samples,rays";
 
 /// A field, quoted when it holds a comma, a quote or a line break.
 fn field(s: &str) -> String {
@@ -17,7 +17,7 @@ pub fn format(scenes: &[(String, Vec<Series>)]) -> String {
         for s in series {
             for r in &s.rungs {
                 out.push_str(&format!(
-                    "{},{},{},{},{},{:.6},{:.6e},{:.6e},{},{}\n",
+                    "{},{},{},{},{},{:.6},{:.6e},{:.6e},{:.6e},{},{}\n",
                     field(scene),
                     s.config.name(),
                     s.config.axis().name(),
@@ -26,6 +26,7 @@ pub fn format(scenes: &[(String, Vec<Series>)]) -> String {
                     r.seconds,
                     r.rmse,
                     r.rel_mse,
+                    r.rel_mse_trimmed,
                     r.camera_samples,
                     r.rays
                 ));
@@ -44,8 +45,15 @@ mod tests {
 
     #[test]
     fn lines() {
-        let rung =
-            Rung { spp: 4, seconds: 0.0123456789, rmse: 0.5, rel_mse: 1.25e-3, camera_samples: 4096, rays: 9000 };
+        let rung = Rung {
+            spp: 4,
+            seconds: 0.0123456789,
+            rmse: 0.5,
+            rel_mse: 1.25e-3,
+            rel_mse_trimmed: 1e-3,
+            camera_samples: 4096,
+            rays: 9000,
+        };
         let wgpu = Config { backend: Backend::Wgpu, ..BASELINE };
         let scenes = vec![
             ("cornell".to_string(), vec![Series { config: BASELINE, rungs: vec![rung] }]),
@@ -56,11 +64,11 @@ mod tests {
         assert_eq!(lines[0], HEADER);
         assert_eq!(
             lines[1],
-            "cornell,vndf-mis-sobol-cpu-spec,baseline,cpu,4,0.012346,5.000000e-1,1.250000e-3,4096,9000"
+            "cornell,vndf-mis-sobol-cpu-spec,baseline,cpu,4,0.012346,5.000000e-1,1.250000e-3,1.000000e-3,4096,9000"
         );
         assert_eq!(
             lines[2],
-            "\"a,\"\"b\"\"\",vndf-mis-sobol-wgpu-spec,backend,wgpu,4,0.012346,5.000000e-1,1.250000e-3,4096,9000"
+            "\"a,\"\"b\"\"\",vndf-mis-sobol-wgpu-spec,backend,wgpu,4,0.012346,5.000000e-1,1.250000e-3,1.000000e-3,4096,9000"
         );
         assert_eq!(lines.len(), 3);
         assert!(text.ends_with('\n'));

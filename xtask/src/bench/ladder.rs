@@ -4,6 +4,7 @@
 //! and compared with the reference.
 
 use super::configs::Config;
+use super::robust;
 use crate::render;
 use ggx_film::Vec3;
 use ggx_scene::Scene;
@@ -23,6 +24,9 @@ pub struct Rung {
     pub rmse: f64,
     /// Relative MSE against the reference (`ggx_film::compare`'s convention).
     pub rel_mse: f64,
+    /// Relative MSE without the [`robust::TRIM`] share of pixels with the largest errors
+    /// ([`robust::trimmed_rel_mse`]): what the convergence check judges.
+    pub rel_mse_trimmed: f64,
     /// Camera samples traced.
     pub camera_samples: u64,
     /// Rays traced.
@@ -71,20 +75,22 @@ pub fn run(
         if result.spp != spp {
             return Err(format!("{name}: rendered {} of {spp} spp", result.spp));
         }
-        let metrics =
-            ggx_film::compare(&result.film.mean(), reference, 1.0).map_err(|e| format!("{name} at {spp} spp: {e}"))?;
+        let image = result.film.mean();
+        let metrics = ggx_film::compare(&image, reference, 1.0).map_err(|e| format!("{name} at {spp} spp: {e}"))?;
         let rung = Rung {
             spp,
             seconds: result.elapsed.as_secs_f64(),
             rmse: metrics.rmse,
             rel_mse: metrics.rel_mse,
+            rel_mse_trimmed: robust::trimmed_rel_mse(&image, reference, robust::TRIM),
             camera_samples: result.camera_samples,
             rays: result.rays,
         };
         eprintln!(
-            "    {name:<28} {spp:>5} spp {:>9.4} s  relMSE {:.3e}  {:.2} M samples/s",
+            "    {name:<28} {spp:>5} spp {:>9.4} s  relMSE {:.3e} (trimmed {:.3e})  {:.2} M samples/s",
             rung.seconds,
             rung.rel_mse,
+            rung.rel_mse_trimmed,
             rung.samples_per_second() * 1e-6
         );
         rungs.push(rung);

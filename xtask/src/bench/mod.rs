@@ -34,6 +34,7 @@ mod ladder;
 mod options;
 mod plots;
 mod reference;
+mod robust;
 mod summary;
 
 use crate::render::{self, Backend, Overrides};

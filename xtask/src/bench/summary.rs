@@ -10,6 +10,7 @@ use super::fireflies;
 use super::ladder::{LADDER_SEED, Series};
 use super::options::Options;
 use super::reference::REFERENCE_SEED;
+use super::robust;
 use crate::render::Backend;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
@@ -142,11 +143,14 @@ fn method(md: &mut String, o: &Options, m: &Machine) {
         "- **Error**: relMSE = mean over pixels and channels of (x - ref)^2 / (ref^2 + {}) and RMSE, against \
          a reference of {} spp rendered with the baseline on the CPU with seed {REFERENCE_SEED:#x} (cached \
          per scene file content in `target/xtask/bench/reference/`). At {}x the top rung's spp, its own \
-         noise adds roughly {:.0} % to the baseline's top-rung relMSE, less to the noisier configurations.",
+         noise adds roughly {:.0} % to the baseline's top-rung relMSE, less to the noisier configurations. \
+         Trimmed relMSE leaves out the {}% of pixels with the largest errors: it shows how the bulk of the \
+         image converges when a few fireflies dominate relMSE, and is what the convergence check judges.",
         ggx_film::REL_EPSILON,
         o.ref_spp,
         o.ref_spp / o.max_spp.max(1),
-        100.0 * f64::from(o.max_spp) / f64::from(o.ref_spp)
+        100.0 * f64::from(o.max_spp) / f64::from(o.ref_spp),
+        100.0 * robust::TRIM
     );
     let _ = writeln!(
         md,
@@ -200,19 +204,20 @@ fn scene_table(md: &mut String, a: &SceneAnalysis) {
         writeln!(md, "Target X = relMSE {}; time budget T = {} s.\n", err(a.target_rel_mse), secs(a.budget_seconds));
     let _ = writeln!(
         md,
-        "| configuration | differs in | top spp | time at top (s) | relMSE at top | time to relMSE X (s) | \
-         relMSE at T | M samples/s (median) |"
+        "| configuration | differs in | top spp | time at top (s) | relMSE at top | trimmed relMSE at top | \
+         time to relMSE X (s) | relMSE at T | M samples/s (median) |"
     );
-    let _ = writeln!(md, "|---|---|---:|---:|---:|---:|---:|---:|");
+    let _ = writeln!(md, "|---|---|---:|---:|---:|---:|---:|---:|---:|");
     for r in &a.rows {
         let _ = writeln!(
             md,
-            "| `{}` | {} | {} | {} | {} | {} | {} | {:.3} |",
+            "| `{}` | {} | {} | {} | {} | {} | {} | {} | {:.3} |",
             r.config.name(),
             r.config.label(),
             r.top.spp,
             secs(r.top.seconds),
             err(r.top.rel_mse),
+            err(r.top.rel_mse_trimmed),
             r.time_to_target.show(secs),
             r.rel_mse_at_budget.show(err),
             r.samples_per_second * 1e-6
@@ -272,6 +277,7 @@ mod tests {
                 seconds: seconds_per_spp * f64::from(spp),
                 rmse: 0.1,
                 rel_mse: 0.5 / f64::from(spp),
+                rel_mse_trimmed: 0.4 / f64::from(spp),
                 camera_samples: u64::from(spp) * 1000,
                 rays: 0,
             })
@@ -321,8 +327,9 @@ mod tests {
             // Baseline top rung: 4 spp, 0.04 s, relMSE 0.125; target 0.25 reached at 2 spp = 0.02 s.
             "Target X = relMSE 2.500e-1; time budget T = 0.040 s.",
             "| `vndf-mis-sobol-cpu-spec` | baseline (VNDF, MIS, sobol, cpu, specialized) | 4 | 0.040 | 1.250e-1 | \
-             0.020 | 1.250e-1 | 0.100 |",
-            "| `vndf-mis-sobol-cpu-generic` | kernel: generic | 4 | 0.080 | 1.250e-1 | 0.040 | 2.500e-1 | 0.050 |",
+             1.000e-1 | 0.020 | 1.250e-1 | 0.100 |",
+            "| `vndf-mis-sobol-cpu-generic` | kernel: generic | 4 | 0.080 | 1.250e-1 | 1.000e-1 | 0.040 | 2.500e-1 | \
+             0.050 |",
             "cpu 2.000x (median of 3 rungs); wgpu not measured (`--no-wgpu`)",
             "| cosine | 1.000e-2 | 1.000e-1 | 7 | 0.500 | [bunny-cosine-64spp.exr](bunny-cosine-64spp.exr) |",
             "- [ ] c: d",
