@@ -82,8 +82,12 @@ pub fn run(args: &[String]) -> Result<(), String> {
     let tolerances = Tolerances::load(&render::scenes_dir().join("tolerances/diff.toml"), &all)?;
     let ctx = render::gpu_context()?;
     let out = render::output_dir("diff")?;
-    let mut report =
-        Report::new(ctx.describe(), options.overrides, tolerances.path().to_owned(), format!("{:?}", options.cpu_bvh));
+    let mut report = {
+        // Relative to the workspace, so a committed copy of the report names no machine's paths.
+        let root = render::workspace_root();
+        let bounds = tolerances.path().strip_prefix(&root).unwrap_or(tolerances.path()).to_owned();
+        Report::new(ctx.describe(), options.overrides, bounds, format!("{:?}", options.cpu_bvh))
+    };
     for path in &paths {
         let name = render::scene_name(path);
         let row = diff_scene(path, &name, &options, &tolerances, &ctx, out.join(&name))?;
