@@ -1,8 +1,13 @@
 //! The cache key of a reference image: a 64-bit FNV-1a hash (stable across Rust releases,
 //! unlike `std`'s `DefaultHasher`) over the scene file's bytes, the bytes of the files it
-//! references (`file = "..."`: meshes, environment maps) and the reference parameters.
+//! references (`file = "..."`: meshes, environment maps), the reference parameters and the
+//! sources of the crates that render it ([`renderer_sources_hash`]), so that a change to the
+//! renderer never leaves a stale reference behind.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// The crates whose sources decide what a CPU reference render contains.
+pub const RENDERER_CRATES: [&str; 4] = ["ggx-core", "ggx-scene", "ggx-cpu", "ggx-film"];
 
 /// Bumped when the way references are rendered changes, so that old cache entries are ignored.
 const KEY_VERSION: &str = "ggx-bench-reference-v1";
@@ -50,6 +55,39 @@ pub struct ReferenceParams {
     pub seed: u64,
     /// Name of the configuration (see [`super::configs::Config::name`]).
     pub config: String,
+    /// [`renderer_sources_hash`] of the workspace.
+    pub renderer: u64,
+}
+
+/// FNV-1a over the relative path and bytes of every file under `crates/<name>/src` of the
+/// [`RENDERER_CRATES`] in `root`, in sorted path order (so the hash does not depend on the
+/// order a file system lists directories in).
+pub fn renderer_sources_hash(root: &Path) -> Result<u64, String> {
+    let mut files = Vec::new();
+    for name in RENDERER_CRATES {
+        collect_files(&root.join("crates").join(name).join("src"), &mut files)?;
+    }
+    files.sort();
+    let mut h = Fnv64::default();
+    for path in &files {
+        let relative = path.strip_prefix(root).unwrap_or(path);
+        h.field(relative.to_string_lossy().replace('\\', "/").as_bytes());
+        h.field(&std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?);
+    }
+    Ok(h.finish())
+}
+
+/// Every file under `dir`, recursively (an iterative walk: no recursion depth to run out of).
+fn collect_files(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), String> {
+    let mut pending = vec![dir.to_path_buf()];
+    while let Some(dir) = pending.pop() {
+        let entries = std::fs::read_dir(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        for entry in entries {
+            let path = entry.map_err(|e| format!("{}: {e}", dir.display()))?.path();
+            if path.is_dir() { pending.push(path) } else { out.push(path) }
+        }
+    }
+    Ok(())
 }
 
 /// The relative paths in `file = "..."` entries of a scene file (the TOML keys naming meshes and
@@ -90,6 +128,7 @@ pub fn key(scene_bytes: &[u8], files: &[(String, Option<Vec<u8>>)], params: &Ref
         h.field(&n.to_le_bytes());
     }
     h.field(params.config.as_bytes());
+    h.field(&params.renderer.to_le_bytes());
     h.finish()
 }
 
@@ -112,7 +151,14 @@ mod tests {
     use super::*;
 
     fn params() -> ReferenceParams {
-        ReferenceParams { width: 32, height: 24, spp: 256, seed: 7, config: "vndf-mis-sobol-cpu-spec".into() }
+        ReferenceParams {
+            width: 32,
+            height: 24,
+            spp: 256,
+            seed: 7,
+            config: "vndf-mis-sobol-cpu-spec".into(),
+            renderer: 0x1234,
+        }
     }
 
     #[test]
@@ -138,6 +184,7 @@ mod tests {
             ReferenceParams { spp: 512, ..params() },
             ReferenceParams { seed: 8, ..params() },
             ReferenceParams { config: "ndf-mis-sobol-cpu-spec".into(), ..params() },
+            ReferenceParams { renderer: 0x1235, ..params() },
         ] {
             assert_ne!(key(b"s", &[], &params()), key(b"s", &[], &changed), "{changed:?}");
         }
@@ -158,6 +205,38 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
         assert!(a != b && b != c && a != c);
         assert!(key_of_file(&dir.join("missing.toml"), &params()).is_err());
+    }
+
+    #[test]
+    fn renderer_hash_follows_every_source_file() {
+        let root = std::env::temp_dir().join(format!("ggx-bench-sources-{}", std::process::id()));
+        for name in RENDERER_CRATES {
+            std::fs::create_dir_all(root.join("crates").join(name).join("src/sub")).unwrap();
+            std::fs::write(root.join("crates").join(name).join("src/lib.rs"), name).unwrap();
+        }
+        let deep = root.join("crates/ggx-cpu/src/sub/deep.rs");
+        std::fs::write(&deep, "fn a() {}").unwrap();
+        let a = renderer_sources_hash(&root).unwrap();
+        assert_eq!(a, renderer_sources_hash(&root).unwrap(), "deterministic");
+        std::fs::write(&deep, "fn b() {}").unwrap();
+        let b = renderer_sources_hash(&root).unwrap();
+        std::fs::rename(&deep, root.join("crates/ggx-cpu/src/sub/moved.rs")).unwrap();
+        let c = renderer_sources_hash(&root).unwrap();
+        // Files outside the renderer crates' src do not count.
+        std::fs::write(root.join("crates/ggx-cpu/README.md"), "docs").unwrap();
+        let d = renderer_sources_hash(&root).unwrap();
+        std::fs::remove_dir_all(root.join("crates/ggx-film")).unwrap();
+        let missing = renderer_sources_hash(&root);
+        std::fs::remove_dir_all(&root).unwrap();
+        assert!(a != b && b != c && a != c, "content and name count");
+        assert_eq!(c, d);
+        assert!(missing.unwrap_err().contains("ggx-film"));
+    }
+
+    #[test]
+    fn renderer_hash_of_this_workspace() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
+        assert!(renderer_sources_hash(root).is_ok());
     }
 
     #[test]

@@ -3,7 +3,8 @@
 //! For every bench scene and configuration, a ladder of 1, 2, 4, ... spp is rendered, each
 //! rung an independent render with a fixed seed ([`ladder`]), timed by the renderer and
 //! compared (RMSE, relMSE) with a converged reference rendered once with the best
-//! configuration at high spp and cached by scene content ([`reference`], [`cache_key`]).
+//! configuration at high spp and cached by scene content and renderer sources ([`reference`],
+//! [`cache_key`]).
 //!
 //! **One axis at a time.** The axes are BSDF sampling (cosine, NDF, VNDF, spherical caps,
 //! bounded VNDF), light strategy (BSDF only, NEE only, MIS), sequence (independent, sobol),

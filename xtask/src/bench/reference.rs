@@ -1,10 +1,11 @@
 //! Converged reference images: rendered once with the baseline configuration at high spp and
 //! cached as `<scene>-<w>x<h>-<spp>spp-<key>.exr`, where the key ([`super::cache_key`]) covers
-//! the scene file, the files it references and the reference parameters, so a reference is
-//! re-rendered only when one of those changes. Its seed differs from the ladder's so that the
-//! reference's noise is not correlated with the errors it measures.
+//! the scene file, the files it references, the reference parameters and the renderer's
+//! sources, so a reference is re-rendered exactly when one of those changes. Its seed differs
+//! from the ladder's so that the reference's noise is not correlated with the errors it
+//! measures.
 
-use super::cache_key::{ReferenceParams, key_of_file};
+use super::cache_key::{ReferenceParams, key_of_file, renderer_sources_hash};
 use super::configs::BASELINE;
 use crate::render::{self, Backend};
 use ggx_film::{OutputOptions, Vec3, read_exr, write_image};
@@ -27,7 +28,8 @@ pub struct Reference {
 /// stored there. Stale entries of the same scene, size and spp are removed.
 pub fn load_or_render(scene_path: &Path, scene: &Scene, spp: u32, cache_dir: &Path) -> Result<Reference, String> {
     let [width, height] = scene.camera.resolution;
-    let params = ReferenceParams { width, height, spp, seed: REFERENCE_SEED, config: BASELINE.name() };
+    let renderer = renderer_sources_hash(&render::workspace_root())?;
+    let params = ReferenceParams { width, height, spp, seed: REFERENCE_SEED, config: BASELINE.name(), renderer };
     let key = key_of_file(scene_path, &params)?;
     let prefix = format!("{}-{width}x{height}-{spp}spp-", render::scene_name(scene_path));
     let path = cache_dir.join(format!("{prefix}{key:016x}.exr"));

@@ -142,7 +142,7 @@ fn method(md: &mut String, o: &Options, m: &Machine) {
         md,
         "- **Error**: relMSE = mean over pixels and channels of (x - ref)^2 / (ref^2 + {}) and RMSE, against \
          a reference of {} spp rendered with the baseline on the CPU with seed {REFERENCE_SEED:#x} (cached \
-         per scene file content in `target/xtask/bench/reference/`). At {}x the top rung's spp, its own \
+         per scene content and renderer sources in `target/xtask/bench/reference/`). At {}x the top rung's spp, its own \
          noise adds roughly {:.0} % to the baseline's top-rung relMSE, less to the noisier configurations. \
          Trimmed relMSE leaves out the {}% of pixels with the largest errors: it shows how the bulk of the \
          image converges when a few fireflies dominate relMSE, and is what the convergence check judges.",
