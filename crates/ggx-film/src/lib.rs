@@ -31,7 +31,7 @@ pub use display::{OutputOptions, tonemap_to_srgb8};
 pub use error::{FilmError, OutputError, ParseToneMapError};
 pub use exr_io::read_exr;
 pub use film::Film;
-pub use metrics::{ImageMetrics, REL_EPSILON, compare};
+pub use metrics::{ImageMetrics, REL_EPSILON, channel_rel_sq, compare};
 pub use output::{SUPPORTED_EXTENSIONS, write_image};
 pub use srgb::srgb_encode;
 pub use tonemap::ToneMap;

@@ -77,6 +77,14 @@ pub fn compare(a: &[Vec3], reference: &[Vec3], tolerance: f64) -> Result<ImageMe
     })
 }
 
+/// `(a - b)^2 / (b^2 + REL_EPSILON)`: the relative squared error of one channel against the
+/// reference `b`, the term [`compare`]'s relMSE averages; `0` when both are NaN or the same
+/// infinity, `+inf` for any other non-finite pair.
+#[inline]
+pub fn channel_rel_sq(a: f64, b: f64) -> f64 {
+    channel_errors(a, b).1
+}
+
 /// `((a - b)^2, (a - b)^2 / (b^2 + REL_EPSILON))` for one channel; `(0, 0)` when both are NaN
 /// or equal infinities, `(inf, inf)` for any other non-finite pair.
 #[inline]
@@ -97,6 +105,17 @@ mod tests {
 
     fn close(a: f64, b: f64) -> bool {
         (a - b).abs() <= 1e-12 * b.abs().max(1.0)
+    }
+
+    #[test]
+    fn channel_rel_sq_is_the_relmse_term() {
+        assert!(close(channel_rel_sq(1.5, 1.0), 0.25 / (1.0 + REL_EPSILON)));
+        assert!(close(channel_rel_sq(0.1, 0.0), 0.01 / REL_EPSILON));
+        assert_eq!(channel_rel_sq(f64::NAN, f64::NAN), 0.0);
+        assert_eq!(channel_rel_sq(f64::INFINITY, f64::INFINITY), 0.0);
+        assert_eq!(channel_rel_sq(f64::INFINITY, f64::NEG_INFINITY), f64::INFINITY);
+        assert_eq!(channel_rel_sq(f64::NAN, 1.0), f64::INFINITY);
+        assert_eq!(channel_rel_sq(1.0, f64::NAN), f64::INFINITY);
     }
 
     #[test]

@@ -5,16 +5,16 @@
 //! convergence check on it would judge luck. Dropping the worst pixels keeps the bulk of the
 //! image, where a correct estimator converges as 1/spp and a biased one stalls.
 
-use ggx_film::{REL_EPSILON, Vec3};
+use ggx_film::{Vec3, channel_rel_sq};
 
 /// Share of pixels dropped by [`trimmed_rel_mse`] in the bench (the largest errors).
 pub const TRIM: f64 = 0.01;
 
 /// `mean(e^2)` over the pixels left after dropping the `trim` share (0 to 1) with the largest
-/// `e^2`, where a pixel's `e^2` is the mean over its channels of `(a - b)^2 / (b^2 +
-/// REL_EPSILON)` (`ggx_film::compare`'s convention). A non-finite channel is an infinite error
-/// (it survives the trim only if too many pixels have one); `+inf` for empty or unequal-length
-/// images.
+/// `e^2`, where a pixel's `e^2` is the mean of [`channel_rel_sq`] over its channels (so with no
+/// trim this is `ggx_film::compare`'s relMSE). A channel that is non-finite on one side only is
+/// an infinite error (it survives the trim only if too many pixels have one); `+inf` for empty
+/// or unequal-length images.
 pub fn trimmed_rel_mse(image: &[Vec3], reference: &[Vec3], trim: f64) -> f64 {
     if image.len() != reference.len() || image.is_empty() {
         return f64::INFINITY;
@@ -23,17 +23,8 @@ pub fn trimmed_rel_mse(image: &[Vec3], reference: &[Vec3], trim: f64) -> f64 {
         .iter()
         .zip(reference)
         .map(|(a, b)| {
-            let sum: f64 = a
-                .to_array()
-                .into_iter()
-                .zip(b.to_array())
-                .map(|(x, y)| {
-                    let (x, y) = (f64::from(x), f64::from(y));
-                    let e2 = (x - y) * (x - y) / (y * y + REL_EPSILON);
-                    if e2.is_finite() { e2 } else { f64::INFINITY }
-                })
-                .sum();
-            sum / 3.0
+            let channels = a.to_array().into_iter().zip(b.to_array());
+            channels.map(|(x, y)| channel_rel_sq(x.into(), y.into())).sum::<f64>() / 3.0
         })
         .collect();
     let trim = if trim.is_finite() { trim.clamp(0.0, 1.0) } else { 0.0 };
@@ -48,6 +39,7 @@ pub fn trimmed_rel_mse(image: &[Vec3], reference: &[Vec3], trim: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use ggx_film::REL_EPSILON;
 
     fn image(values: &[f32]) -> Vec<Vec3> {
         values.iter().map(|&v| Vec3::splat(v)).collect()

@@ -1,29 +1,20 @@
 //! The pictures of a diff: the false-colour relative-error map, FLIP on the tone-mapped images
 //! (NVIDIA's reference implementation through `nv-flip`) and atomic PNG output.
 
-use ggx_film::{OutputOptions, REL_EPSILON, Vec3, tonemap_to_srgb8};
+use ggx_film::{OutputOptions, Vec3, tonemap_to_srgb8};
 use std::path::Path;
 
 /// Decades of relative error the false-colour map spans: `1e-7` (black) to `1` (white-yellow).
 const DECADES: f64 = 7.0;
 
 /// Largest per-channel relative error `|a - b| / sqrt(b^2 + REL_EPSILON)` of one pixel, the
-/// quantity `ggx_film::compare` counts against the tolerance; a non-finite pair counts as 1e30
-/// unless both agree (NaN and NaN, or the same infinity).
+/// quantity `ggx_film::compare` counts against the tolerance (the root of
+/// [`ggx_film::channel_rel_sq`]): `+inf` for a channel that is non-finite on one side only.
 pub fn pixel_rel_error(a: Vec3, reference: Vec3) -> f64 {
     a.to_array()
         .into_iter()
         .zip(reference.to_array())
-        .map(|(x, y)| {
-            let (x, y) = (f64::from(x), f64::from(y));
-            if x.is_finite() && y.is_finite() {
-                (x - y).abs() / (y * y + REL_EPSILON).sqrt()
-            } else if x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan()) {
-                0.0
-            } else {
-                1e30
-            }
-        })
+        .map(|(x, y)| ggx_film::channel_rel_sq(x.into(), y.into()).sqrt())
         .fold(0.0, f64::max)
 }
 
@@ -71,6 +62,7 @@ pub fn write_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(),
 #[cfg(test)]
 mod tests {
     use super::*;
+    use ggx_film::REL_EPSILON;
 
     #[test]
     fn relative_error_matches_the_metric_and_handles_non_finite_pixels() {
@@ -78,7 +70,8 @@ mod tests {
         assert!((e - 0.1 / (1.0f64 + REL_EPSILON).sqrt()).abs() < 1e-6, "{e}");
         assert_eq!(pixel_rel_error(Vec3::splat(f32::NAN), Vec3::splat(f32::NAN)), 0.0);
         assert_eq!(pixel_rel_error(Vec3::splat(f32::INFINITY), Vec3::splat(f32::INFINITY)), 0.0);
-        assert_eq!(pixel_rel_error(Vec3::splat(f32::NAN), Vec3::ONE), 1e30);
+        assert_eq!(pixel_rel_error(Vec3::splat(f32::NAN), Vec3::ONE), f64::INFINITY);
+        assert_eq!(log_scale(f64::INFINITY), 1.0);
     }
 
     #[test]
