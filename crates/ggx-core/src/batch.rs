@@ -40,6 +40,8 @@ fn rsqrt_or_zero(len2: f32) -> f32 {
 /// Benyoub 2023, the same density as Heitz 2018): for each lane `i`, `wo[i]` (unit, tangent
 /// space) and `u0[i], u1[i]` give `wi[i]` and its density `pdf[i] = D(wm) / (2 (wo.z + so))`.
 /// Processes `min` of all slice lengths and returns how many lanes got a valid sample.
+/// Any input gives a finite `wi` (the reflection of `wo`, so unit only for a unit `wo`) and a
+/// finite pdf `>= 0`; lanes past the common length are left untouched.
 pub fn sample_vndf(
     dist: &TrowbridgeReitz,
     wo: Vec3Slices,
@@ -54,7 +56,7 @@ pub fn sample_vndf(
         .unwrap_or(0);
     let (ox, oy, oz, u0, u1) = (&wo.x[..n], &wo.y[..n], &wo.z[..n], &u0[..n], &u1[..n]);
     let (ix, iy, iz, pdf) = (&mut wi.x[..n], &mut wi.y[..n], &mut wi.z[..n], &mut pdf[..n]);
-    let (ax, ay) = (dist.alpha_x, dist.alpha_y);
+    let (ax, ay) = dist.alphas();
     let inv_pi_axay = 1.0 / (core::f32::consts::PI * ax * ay);
     let mut valid = 0usize;
     for i in 0..n {
@@ -110,9 +112,9 @@ pub fn eval(brdf: &GgxConductor, wo: Vec3Slices, wi: Vec3Slices, out: Vec3Slices
     let (ox, oy, oz) = (&wo.x[..n], &wo.y[..n], &wo.z[..n]);
     let (ix, iy, iz) = (&wi.x[..n], &wi.y[..n], &wi.z[..n]);
     let (rx, ry, rz) = (&mut out.x[..n], &mut out.y[..n], &mut out.z[..n]);
-    let d = brdf.distribution;
-    let (ax2, ay2) = (d.alpha_x * d.alpha_x, d.alpha_y * d.alpha_y);
-    let inv_pi_axay = 1.0 / (core::f32::consts::PI * d.alpha_x * d.alpha_y);
+    let (ax, ay) = brdf.distribution.alphas();
+    let (ax2, ay2) = (ax * ax, ay * ay);
+    let inv_pi_axay = 1.0 / (core::f32::consts::PI * ax * ay);
     let delta = brdf.is_delta();
     for i in 0..n {
         let (a, b, c) = (ox[i], oy[i], oz[i]);

@@ -8,8 +8,12 @@ use glam::Vec3;
 /// Anisotropic GGX distribution with widths `alpha_x`, `alpha_y` (clamped to
 /// `[ALPHA_MIN, ALPHA_MAX]` by [`TrowbridgeReitz::new`]).
 ///
+/// The fields are public and the struct is `Pod`, so they may hold anything (NaN, infinities,
+/// negative, zero, subnormal); every method reads them through [`TrowbridgeReitz::alphas`],
+/// the constructor's clamp, so any bit pattern behaves as `new(alpha_x, alpha_y)` would.
+///
 /// All functions take tangent-space unit vectors and return 0 (never NaN or infinity,
-/// except [`TrowbridgeReitz::lambda`], which is `+inf` at exactly grazing angles) where the
+/// except [`TrowbridgeReitz::lambda`], which is `+inf` at grazing angles) where the
 /// quantity is undefined.
 #[repr(C)]
 #[derive(Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
@@ -35,25 +39,36 @@ impl TrowbridgeReitz {
         Self { alpha_x: a, alpha_y: a }
     }
 
-    /// True when both alphas are equal, which enables the isotropic fast paths.
-    #[inline]
-    pub fn is_isotropic(&self) -> bool {
-        self.alpha_x == self.alpha_y
+    /// The alphas every formula uses, `(clamp_alpha(alpha_x), clamp_alpha(alpha_y))`: the
+    /// identity for constructor-made values, the constructor's clamp for raw field values.
+    #[inline(always)]
+    pub fn alphas(&self) -> (f32, f32) {
+        (clamp_alpha(self.alpha_x), clamp_alpha(self.alpha_y))
     }
 
-    /// True when the lobe is rendered as a mirror: `max(alpha_x, alpha_y) < DELTA_ALPHA`.
+    /// True when both alphas ([`Self::alphas`]) are equal, which enables the isotropic fast paths.
+    #[inline]
+    pub fn is_isotropic(&self) -> bool {
+        let (ax, ay) = self.alphas();
+        ax == ay
+    }
+
+    /// True when the lobe is rendered as a mirror: `max(alpha_x, alpha_y) < DELTA_ALPHA`
+    /// (alphas from [`Self::alphas`]).
     #[inline]
     pub fn is_effectively_smooth(&self) -> bool {
-        self.alpha_x.max(self.alpha_y) < DELTA_ALPHA
+        let (ax, ay) = self.alphas();
+        ax.max(ay) < DELTA_ALPHA
     }
 
     /// `alpha_x^2 w.x^2 + alpha_y^2 w.y^2`, the squared length of the stretched tangential part.
     #[inline(always)]
     pub(crate) fn alpha2_xy(&self, w: Vec3) -> f32 {
+        let (ax, ay) = self.alphas();
         if self.is_isotropic() {
-            self.alpha_x * self.alpha_x * (w.x * w.x + w.y * w.y)
+            ax * ax * (w.x * w.x + w.y * w.y)
         } else {
-            let (x, y) = (self.alpha_x * w.x, self.alpha_y * w.y);
+            let (x, y) = (ax * w.x, ay * w.y);
             x * x + y * y
         }
     }
@@ -72,18 +87,25 @@ impl TrowbridgeReitz {
         if !(wm.z > 0.0) {
             return 0.0;
         }
+        let (ax, ay) = self.alphas();
         let t = if self.is_isotropic() {
-            (wm.x * wm.x + wm.y * wm.y) / (self.alpha_x * self.alpha_x) + wm.z * wm.z
+            (wm.x * wm.x + wm.y * wm.y) / (ax * ax) + wm.z * wm.z
         } else {
-            let (x, y) = (wm.x / self.alpha_x, wm.y / self.alpha_y);
+            let (x, y) = (wm.x / ax, wm.y / ay);
             x * x + y * y + wm.z * wm.z
         };
-        finite_or_zero(1.0 / (PI * self.alpha_x * self.alpha_y * t * t))
+        finite_or_zero(1.0 / (PI * ax * ay * t * t))
     }
 
     /// Smith Lambda, Heitz 2014 eq. 86: `(sqrt(1 + q) - 1) / 2` with
     /// `q = (ax^2 x^2 + ay^2 y^2) / z^2`, written as `q / (2 (1 + sqrt(1 + q)))` to avoid
-    /// cancellation. Depends on `|w.z|` (pbrt-v4 convention); `+inf` when `w.z = 0`.
+    /// cancellation. Depends on `|w.z|` (pbrt-v4 convention).
+    ///
+    /// Never NaN or negative (0 where `q` is NaN: a NaN component, `w = 0`). Outside the
+    /// finite contract by design: `+inf` exactly where `q` overflows to `+inf`, that is where
+    /// `w.z^2` is 0 (`w.z = 0`, or `|w.z| < ~1e-19` so that it underflows) under a non-zero
+    /// tangential part, or, for non-unit `w` only, where the tangential part overflows f32
+    /// (`|w.x|` or `|w.y|` above about `1.8e19`).
     #[inline]
     pub fn lambda(&self, w: Vec3) -> f32 {
         let q = self.alpha2_xy(w) / (w.z * w.z);

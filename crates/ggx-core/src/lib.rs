@@ -22,8 +22,14 @@
 //!   bit-identical numbers on CPU and GPU.
 //! * [`batch`]: slice APIs that the compiler auto-vectorizes.
 //!
-//! Every function accepts any `f32` (NaN, infinities, subnormals, zero) without panicking
-//! and without returning NaN. Nothing allocates, nothing recurses, nothing panics.
+//! Every function accepts any `f32` (NaN, infinities, subnormals, zero, negative, huge)
+//! without panicking and without returning NaN, and the `Pod` structs accept any bit pattern
+//! in their public fields (alphas are read through [`TrowbridgeReitz::alphas`], the
+//! constructor's clamp). The documented exceptions, all `+inf` or IEEE by design:
+//! [`math::sqrt`] (NaN for negative input), [`math::safe_sqrt`] and
+//! [`warp::pdf_cosine_hemisphere`] at `+inf`, and [`TrowbridgeReitz::lambda`] where its ratio
+//! overflows (grazing). `tests/contract.rs` checks every public function. Nothing allocates,
+//! nothing recurses, nothing panics.
 #![no_std]
 #![deny(missing_docs)]
 

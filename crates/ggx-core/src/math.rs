@@ -10,7 +10,8 @@ use glam::{Vec2, Vec3};
 /// The largest `f32` below one: `1 - 2^-24`.
 pub const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 
-/// Square root, correctly rounded (IEEE 754).
+/// Square root, correctly rounded (IEEE 754). Outside ggx-core's no-NaN contract by design:
+/// NaN for a negative or NaN `x`, `+inf` for `+inf`; use [`safe_sqrt`] for anything sanitized.
 #[inline(always)]
 pub fn sqrt(x: f32) -> f32 {
     #[cfg(feature = "std")]
@@ -23,7 +24,7 @@ pub fn sqrt(x: f32) -> f32 {
     }
 }
 
-/// `sqrt(max(x, 0))`: never NaN for a non-NaN input, and 0 for NaN.
+/// `sqrt(max(x, 0))`: never NaN (0 for NaN and negative `x`); finite except `safe_sqrt(+inf) = +inf`.
 #[inline(always)]
 pub fn safe_sqrt(x: f32) -> f32 {
     sqrt(x.max(0.0))
@@ -65,13 +66,31 @@ pub fn normalize_or_zero(v: Vec3) -> Vec3 {
     }
 }
 
-/// `(sin 2 pi u, cos 2 pi u)` for `u` in `[0, 1]`: quadrant reduction, then Taylor polynomials
-/// of degree 9 and 8 on `[-pi/4, pi/4]` (absolute error below 2e-7, branch-free).
+/// `2^23`: every `f32` at or above it in magnitude is an integer.
+const TWO_POW_23: f32 = 8_388_608.0;
+
+/// `|u| - trunc(|u|)`, the fractional part of `|u|` in `[0, 1)`, exact (Sterbenz); 0 for
+/// `|u| >= 2^23` (integers), infinities and NaN. Identity on `[0, 1)`.
+#[inline(always)]
+fn fract_abs(u: f32) -> f32 {
+    let a = u.abs();
+    // NaN fails the comparison; below 2^23 the saturating cast is the exact truncation.
+    if a < TWO_POW_23 { a - (a as u32) as f32 } else { 0.0 }
+}
+
+/// `(sin 2 pi u, cos 2 pi u)` for any `f32`: exact reduction `u -> sign(u) fract_abs(u)` (sine
+/// is odd, cosine even), nearest quarter turn, then Taylor polynomials of degree 9 and 8 on
+/// `[-pi/4, pi/4]` (absolute error below 2e-7 for every finite `u`, branch-free).
+///
+/// Both outputs are finite and in `[-1, 1]` for every input. NaN and infinities are treated as
+/// 0 (`(+-0, 1)`), and so is every `|u| >= 2^23` (an integer, where the true value is `(0, 1)`).
+/// On `[0, 1)` the reduction is the identity, so the result there is that of the polynomial alone.
 #[inline(always)]
 pub fn sincos_2pi(u: f32) -> (f32, f32) {
-    // Nearest quarter turn; the cast saturates, so no input can panic.
-    let q = (u * 4.0 + 0.5) as i32;
-    let r = u - q as f32 * 0.25; // exact (Sterbenz), in [-1/8, 1/8]
+    let v = fract_abs(u);
+    // Nearest quarter turn of v in [0, 1): q in 0..=4, no saturation.
+    let q = (v * 4.0 + 0.5) as i32;
+    let r = v - q as f32 * 0.25; // exact (Sterbenz), in [-1/8, 1/8]
     let x = r * TAU;
     let x2 = x * x;
     let s = x * (1.0 + x2 * (-1.0 / 6.0 + x2 * (1.0 / 120.0 + x2 * (-1.0 / 5040.0 + x2 * (1.0 / 362_880.0)))));
@@ -80,7 +99,8 @@ pub fn sincos_2pi(u: f32) -> (f32, f32) {
     let (a, b) = if quadrant & 1 != 0 { (c, s) } else { (s, c) };
     let sin = if quadrant & 2 != 0 { -a } else { a };
     let cos = if (quadrant + 1) & 2 != 0 { -b } else { b };
-    (sin, cos)
+    // sin(-x) = -sin(x): the sign bit of u (so -0.0 keeps the old -0.0).
+    (if u.is_sign_negative() { -sin } else { sin }, cos)
 }
 
 #[cfg(test)]
@@ -99,6 +119,34 @@ mod tests {
         assert!(worst < 2e-7, "worst abs error {worst}");
         let (s, c) = sincos_2pi(ONE_MINUS_EPSILON);
         assert!(s <= 0.0 && s > -1e-6 && c == 1.0);
+    }
+
+    #[test]
+    fn sincos_reduces_any_f32_exactly() {
+        // Negative and large u against f64 at the f32 value of u: same accuracy as on [0, 1].
+        let mut worst = 0.0f64;
+        for i in 0..=200_000u32 {
+            for u in [-(i as f32) / 200_000.0, i as f32 * 0.7313 - 70_000.0, -(i as f32) * 41.93] {
+                let (s, c) = sincos_2pi(u);
+                let a = core::f64::consts::TAU * (u as f64).rem_euclid(1.0);
+                worst = worst.max((s as f64 - a.sin()).abs()).max((c as f64 - a.cos()).abs());
+            }
+        }
+        assert!(worst < 2e-7, "worst abs error {worst}");
+        // Symmetric about 0, identity of the reduction on [0, 1).
+        for u in [0.1f32, 0.3, 0.5, 0.77, ONE_MINUS_EPSILON, 1e-30, 1e-45] {
+            let ((s, c), (t, d)) = (sincos_2pi(u), sincos_2pi(-u));
+            assert!(s == -t && c == d, "{u}");
+            assert_eq!(fract_abs(u), u);
+        }
+        // Integers (every |u| >= 2^23), NaN and infinities: (0, 1).
+        for u in [f32::NAN, -f32::NAN, f32::INFINITY, f32::NEG_INFINITY, f32::MAX, -f32::MAX, 8_388_608.0, -1e30, 5.0] {
+            let (s, c) = sincos_2pi(u);
+            assert!(s == 0.0 && c == 1.0, "{u} -> {s} {c}");
+        }
+        // 2^23 - 0.5 is a half turn.
+        let (s, c) = sincos_2pi(8_388_607.5);
+        assert!(s.abs() < 1e-7 && c == -1.0);
     }
 
     #[test]

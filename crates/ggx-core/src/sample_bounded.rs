@@ -10,7 +10,8 @@ impl TrowbridgeReitz {
     /// `k = (1 - a^2) s^2 / (s^2 + a^2 wo.z^2)`, `a = min(ax, ay)`, `s = 1 + |wo.xy|`.
     #[inline(always)]
     pub fn bounded_k(&self, wo: Vec3) -> f32 {
-        let a = self.alpha_x.min(self.alpha_y);
+        let (ax, ay) = self.alphas();
+        let a = ax.min(ay);
         let a2 = a * a;
         let s = 1.0 + sqrt(wo.x * wo.x + wo.y * wo.y);
         let s2 = s * s;
@@ -26,7 +27,8 @@ impl TrowbridgeReitz {
         if !(wo.z > 0.0) {
             return Vec3::ZERO;
         }
-        let vh = normalize_or_zero(Vec3::new(self.alpha_x * wo.x, self.alpha_y * wo.y, wo.z));
+        let (ax, ay) = self.alphas();
+        let vh = normalize_or_zero(Vec3::new(ax * wo.x, ay * wo.y, wo.z));
         self.sample_cap(vh, self.bounded_k(wo) * vh.z, u)
     }
 

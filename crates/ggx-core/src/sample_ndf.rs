@@ -12,10 +12,11 @@ impl TrowbridgeReitz {
     #[inline]
     pub fn sample_wm_ndf(&self, u: Vec2) -> Vec3 {
         let u = sanitize_u2(u);
+        let (ax, ay) = self.alphas();
         let r = safe_sqrt(u.x);
         let (sin_phi, cos_phi) = sincos_2pi(u.y);
         // sqrt(1 - u0) >= 2^-12 after sanitizing, so the result is never horizontal.
-        normalize_or_zero(Vec3::new(self.alpha_x * r * cos_phi, self.alpha_y * r * sin_phi, safe_sqrt(1.0 - u.x)))
+        normalize_or_zero(Vec3::new(ax * r * cos_phi, ay * r * sin_phi, safe_sqrt(1.0 - u.x)))
     }
 
     /// Density of [`Self::sample_wm_ndf`]: `D(wm) wm.z`.

@@ -14,7 +14,8 @@ impl TrowbridgeReitz {
         if !(wo.z > 0.0) {
             return Vec3::ZERO;
         }
-        let vh = normalize_or_zero(Vec3::new(self.alpha_x * wo.x, self.alpha_y * wo.y, wo.z));
+        let (ax, ay) = self.alphas();
+        let vh = normalize_or_zero(Vec3::new(ax * wo.x, ay * wo.y, wo.z));
         self.sample_cap(vh, vh.z, u)
     }
 
@@ -23,6 +24,7 @@ impl TrowbridgeReitz {
     #[inline(always)]
     pub(crate) fn sample_cap(&self, vh: Vec3, lower: f32, u: Vec2) -> Vec3 {
         let u = sanitize_u2(u);
+        let (ax, ay) = self.alphas();
         let (sin_phi, cos_phi) = sincos_2pi(u.x);
         let t = (1.0 - u.y) * (1.0 + lower);
         let z = t - lower;
@@ -30,6 +32,6 @@ impl TrowbridgeReitz {
         // h.z = z + vh.z written as t + (vh.z - lower): no cancellation as u1 -> 1 (for spherical
         // caps it is exactly t), which GPU compilers would otherwise fold differently.
         let h = Vec3::new(sin_theta * cos_phi + vh.x, sin_theta * sin_phi + vh.y, t + (vh.z - lower));
-        normalize_or_zero(Vec3::new(self.alpha_x * h.x, self.alpha_y * h.y, h.z.max(0.0)))
+        normalize_or_zero(Vec3::new(ax * h.x, ay * h.y, h.z.max(0.0)))
     }
 }

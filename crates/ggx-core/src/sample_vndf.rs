@@ -15,7 +15,8 @@ impl TrowbridgeReitz {
             return Vec3::ZERO;
         }
         let u = sanitize_u2(u);
-        let vh = normalize_or_zero(Vec3::new(self.alpha_x * wo.x, self.alpha_y * wo.y, wo.z));
+        let (ax, ay) = self.alphas();
+        let vh = normalize_or_zero(Vec3::new(ax * wo.x, ay * wo.y, wo.z));
         // Basis around vh, Heitz 2018's rule: X only when vh is exactly the normal. (pbrt-v4's
         // shortcut "vh.z >= 0.99999 -> X" tilts the sampled hemisphere by up to 4.5e-3 rad,
         // which tiny alphas magnify into back-facing normals; found by `cargo xtask stress`.)
@@ -29,6 +30,6 @@ impl TrowbridgeReitz {
         let s = 0.5 * (1.0 + vh.z);
         let p2 = (1.0 - s) * safe_sqrt(1.0 - p1 * p1) + s * (r * sin_phi);
         let nh = p1 * t1 + p2 * t2 + safe_sqrt(1.0 - p1 * p1 - p2 * p2) * vh;
-        normalize_or_zero(Vec3::new(self.alpha_x * nh.x, self.alpha_y * nh.y, nh.z.max(0.0)))
+        normalize_or_zero(Vec3::new(ax * nh.x, ay * nh.y, nh.z.max(0.0)))
     }
 }

@@ -15,7 +15,8 @@ pub fn sample_cosine_hemisphere(u: Vec2) -> Vec3 {
     Vec3::new(r * cos_phi, r * sin_phi, safe_sqrt(1.0 - u.x))
 }
 
-/// Density of [`sample_cosine_hemisphere`]: `max(0, w.z) / pi`.
+/// Density of [`sample_cosine_hemisphere`]: `max(0, w.z) / pi`; never NaN, finite except
+/// `+inf` for `w.z = +inf` (IEEE, outside the finite contract).
 #[inline]
 pub fn pdf_cosine_hemisphere(w: Vec3) -> f32 {
     if w.z > 0.0 { w.z * FRAC_1_PI } else { 0.0 }

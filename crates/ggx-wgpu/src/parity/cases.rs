@@ -269,8 +269,23 @@ const ALPHAS: [(f32, f32); 18] = [
     (0.05, 0.2),
 ];
 
+/// Field values that bypass the constructor (`Pod` bytes): ggx-core and the WGSL read them
+/// through `alphas()`, the constructor's clamp.
+const RAW_ALPHAS: [(f32, f32); 8] =
+    [(NAN, 0.3), (-0.5, 0.2), (0.0, 0.5), (2.0, 3.0), (INF, -INF), (1e-40, 0.3), (0.3, f32::MAX), (-0.3, -0.3)];
+
+/// Raw alpha fields for the conductor rows: [`RAW_ALPHAS`] without `(inf, -inf)`, which reads
+/// as `(1, 1e-4)`: a 1:10^4 anisotropy (beyond the 1:100 the rows are sized for) where one
+/// `sample` pdf of 127 is 19 ulp from ggx-core, exactly as for `TrowbridgeReitz::new(1.0, 1e-4)`.
+const RAW_CONDUCTOR_ALPHAS: [(f32, f32); 7] =
+    [(NAN, 0.3), (-0.5, 0.2), (0.0, 0.5), (2.0, 3.0), (1e-40, 0.3), (0.3, f32::MAX), (-0.3, -0.3)];
+
+fn raw_dists() -> impl Iterator<Item = TrowbridgeReitz> {
+    RAW_ALPHAS.into_iter().map(|(alpha_x, alpha_y)| TrowbridgeReitz { alpha_x, alpha_y })
+}
+
 fn dists() -> Vec<TrowbridgeReitz> {
-    ALPHAS.iter().map(|&(x, y)| TrowbridgeReitz::new(x, y)).collect()
+    ALPHAS.iter().map(|&(x, y)| TrowbridgeReitz::new(x, y)).chain(raw_dists()).collect()
 }
 
 fn with_dist(distribution: TrowbridgeReitz) -> GgxConductor {
@@ -318,6 +333,17 @@ fn bsdfs() -> Vec<GgxConductor> {
     edge.chain(models)
         .map(|(x, y, fresnel)| GgxConductor { distribution: TrowbridgeReitz::new(x, y), pad: [0; 2], fresnel })
         .collect()
+}
+
+/// [`bsdfs`] plus conductors whose alpha fields bypass the constructor.
+fn bsdfs_raw() -> Vec<GgxConductor> {
+    let fresnel = fresnels();
+    let raw = RAW_CONDUCTOR_ALPHAS.into_iter().enumerate().map(|(i, (alpha_x, alpha_y))| GgxConductor {
+        distribution: TrowbridgeReitz { alpha_x, alpha_y },
+        pad: [0; 2],
+        fresnel: fresnel[(i + 3) % fresnel.len()],
+    });
+    bsdfs().into_iter().chain(raw).collect()
 }
 
 /// Cosines for the Fresnel formulas: both sides of zero, grazing, one and beyond, NaN, infinities.
@@ -392,9 +418,8 @@ pub(super) fn specs() -> Vec<Spec> {
 
     // math.rs
     // Every row is held to Contract::Finite (ggx-core documents finite outputs and its
-    // tests/robustness.rs checks them) except the four marked `ieee()`: safe_sqrt(+inf) and
-    // pdf_cosine_hemisphere at w.z = +inf are +inf, lambda is +inf at grazing, and sincos_2pi
-    // propagates NaN.
+    // tests/contract.rs checks them) except the three marked `ieee()`: safe_sqrt(+inf) and
+    // pdf_cosine_hemisphere at w.z = +inf are +inf, and lambda is +inf at grazing.
     s.row("safe_sqrt", FEW_OPS, scalar_cases(), |i, _| floats(&[math::safe_sqrt(i.a[0])])).ieee();
     s.row("finite_or_zero", Bound::EXACT, scalar_cases(), |i, _| floats(&[math::finite_or_zero(i.a[0])]));
     s.row("sanitize_u", Bound::EXACT, scalar_cases(), |i, _| floats(&[math::sanitize_u(i.a[0])]));
@@ -417,23 +442,23 @@ pub(super) fn specs() -> Vec<Spec> {
             .chain(directions().into_iter().map(|d| (Input::dir(d), none()))),
         |i, _| floats(&v3(math::normalize_or_zero(i.va()))),
     );
-    let sincos_u = (0..=4096).map(|k| k as f32 / 4096.0).chain([
-        ONE_MINUS_ULP,
-        0.125 - 1e-8,
-        0.125 + 1e-8,
-        0.375,
-        0.625,
-        0.875,
-        -0.3,
-        -1.0,
-        1.3,
-        2.0,
-    ]);
+    // [0, 1] (what the samplers pass), then negative u, large u up to and past 2^23 (where
+    // every f32 is an integer), and every special scalar (NaN, infinities, -0, subnormals, MAX).
+    let sincos_u = (0..=4096)
+        .map(|k| k as f32 / 4096.0)
+        .chain([ONE_MINUS_ULP, 0.125 - 1e-8, 0.125 + 1e-8, 0.375, 0.625, 0.875, 1.3, 2.0])
+        .chain((1..=1024).map(|k| k as f32 / -1024.0 - 0.3))
+        .chain([-ONE_MINUS_ULP, -1e-30, -0.125 - 1e-8, -1.0, -2.5, 1e-30 - 1.0])
+        .chain((0..=46).flat_map(|e| {
+            let x = 1.37 * 2f32.powi(e - 23);
+            [x, -x, x + 0.3, -(x + 0.3)]
+        }))
+        .chain([8_388_607.5, -8_388_607.5, 8_388_608.0, 8_388_609.0, 4_194_303.5, 16_777_218.0, 123_456.79])
+        .chain(scalars());
     s.row("sincos_2pi", UNIT, sincos_u.map(|u| (Input::scalar(u), none())), |i, _| {
         let (sin, cos) = math::sincos_2pi(i.a[0]);
         floats(&[sin, cos])
-    })
-    .ieee();
+    });
 
     // alpha.rs
     s.row("clamp_alpha", Bound::EXACT, scalar_cases(), |i, _| floats(&[alpha::clamp_alpha(i.a[0])]));
@@ -542,7 +567,7 @@ pub(super) fn specs() -> Vec<Spec> {
 
     // conductor.rs
     let pair_bsdf = || {
-        bsdfs().into_iter().flat_map(|k| {
+        bsdfs_raw().into_iter().flat_map(|k| {
             few_directions().into_iter().flat_map(move |a| few_directions().into_iter().map(move |b| (a, b, k)))
         })
     };
@@ -553,7 +578,7 @@ pub(super) fn specs() -> Vec<Spec> {
         pair_bsdf().flat_map(|(a, b, k)| SAMPLINGS.map(|t| (Input { n: [t, 0, 0, 0], ..Input::pair(a, b) }, k)));
     s.row("ggx_conductor_pdf", FORMULA, pdf_cases, |i, k| floats(&[k.pdf(i.va(), i.vb(), Sampling::from_u32(i.n[0]))]));
     let few_u = us(&[0.0, 0.25, 0.5, 0.77, ONE_MINUS_ULP]);
-    let sample_cases = bsdfs().into_iter().flat_map(|k| {
+    let sample_cases = bsdfs_raw().into_iter().flat_map(|k| {
         let few_u = few_u.clone();
         wo_directions().into_iter().flat_map(move |wo| {
             let few_u = few_u.clone();

@@ -196,10 +196,18 @@ fn normalize_or_zero(v: vec3<f32>) -> vec3<f32> {
     return vec3(0.0);
 }
 
-// (sin 2 pi u, cos 2 pi u): nearest quarter turn, Taylor polynomials of degree 9 and 8 on [-pi/4, pi/4].
+// |u| - trunc(|u|) in [0, 1), exact; 0 for |u| >= 2^23 (integers), infinities and NaN (bit test).
+fn fract_abs(u: f32) -> f32 {
+    let a = abs(u);
+    return select(0.0, a - trunc(a), (bitcast<u32>(u) & 0x7fffffffu) < 0x4b000000u);
+}
+
+// (sin 2 pi u, cos 2 pi u) for any u: exact reduction to sign(u) fract_abs(u) (sine odd, cosine
+// even), nearest quarter turn, Taylor polynomials of degree 9 and 8 on [-pi/4, pi/4]; NaN, inf -> (+-0, 1).
 fn sincos_2pi(u: f32) -> vec2<f32> {
-    let q = i32(u * 4.0 + 0.5);
-    let r = u - f32(q) * 0.25;
+    let v = fract_abs(u);
+    let q = i32(v * 4.0 + 0.5);
+    let r = v - f32(q) * 0.25;
     let x = r * TAU;
     let x2 = x * x;
     let s = x * (1.0 + x2 * (-1.0f / 6.0f + x2 * (1.0f / 120.0f + x2 * (-1.0f / 5040.0f + x2 * (1.0f / 362880.0f)))));
@@ -208,7 +216,7 @@ fn sincos_2pi(u: f32) -> vec2<f32> {
     let ab = select(vec2(s, c), vec2(c, s), (quadrant & 1) != 0);
     let sin = select(ab.x, -ab.x, (quadrant & 2) != 0);
     let cos = select(ab.y, -ab.y, ((quadrant + 1) & 2) != 0);
-    return vec2(sin, cos);
+    return vec2(select(sin, -sin, (bitcast<u32>(u) & 0x80000000u) != 0u), cos);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -240,23 +248,32 @@ fn trowbridge_reitz_new(alpha_x: f32, alpha_y: f32) -> TrowbridgeReitz {
     return TrowbridgeReitz(clamp_alpha(alpha_x), clamp_alpha(alpha_y));
 }
 
-// alpha_x == alpha_y enables the isotropic fast paths.
-fn is_isotropic(dist: TrowbridgeReitz) -> bool {
-    return dist.alpha_x == dist.alpha_y;
+// (clamp_alpha(alpha_x), clamp_alpha(alpha_y)): the alphas every formula reads, so raw field
+// values behave as trowbridge_reitz_new made them (the identity for constructor-made values).
+fn alphas(dist: TrowbridgeReitz) -> vec2<f32> {
+    return vec2(clamp_alpha(dist.alpha_x), clamp_alpha(dist.alpha_y));
 }
 
-// Mirror lobe: max(alpha_x, alpha_y) < DELTA_ALPHA (pbrt-v4, Bevy).
+// alphas().x == alphas().y enables the isotropic fast paths.
+fn is_isotropic(dist: TrowbridgeReitz) -> bool {
+    let a = alphas(dist);
+    return a.x == a.y;
+}
+
+// Mirror lobe: max(alpha_x, alpha_y) < DELTA_ALPHA on alphas() (pbrt-v4, Bevy).
 fn is_effectively_smooth(dist: TrowbridgeReitz) -> bool {
-    return max_num(dist.alpha_x, dist.alpha_y) < DELTA_ALPHA;
+    let a = alphas(dist);
+    return max_num(a.x, a.y) < DELTA_ALPHA;
 }
 
 // ax^2 x^2 + ay^2 y^2.
 fn alpha2_xy(dist: TrowbridgeReitz, w: vec3<f32>) -> f32 {
+    let a = alphas(dist);
     if is_isotropic(dist) {
-        return dist.alpha_x * dist.alpha_x * (w.x * w.x + w.y * w.y);
+        return a.x * a.x * (w.x * w.x + w.y * w.y);
     }
-    let x = dist.alpha_x * w.x;
-    let y = dist.alpha_y * w.y;
+    let x = a.x * w.x;
+    let y = a.y * w.y;
     return x * x + y * y;
 }
 
@@ -270,15 +287,16 @@ fn d(dist: TrowbridgeReitz, wm: vec3<f32>) -> f32 {
     if !(wm.z > 0.0) {
         return 0.0;
     }
+    let a = alphas(dist);
     var t: f32;
     if is_isotropic(dist) {
-        t = (wm.x * wm.x + wm.y * wm.y) / (dist.alpha_x * dist.alpha_x) + wm.z * wm.z;
+        t = (wm.x * wm.x + wm.y * wm.y) / (a.x * a.x) + wm.z * wm.z;
     } else {
-        let x = wm.x / dist.alpha_x;
-        let y = wm.y / dist.alpha_y;
+        let x = wm.x / a.x;
+        let y = wm.y / a.y;
         t = x * x + y * y + wm.z * wm.z;
     }
-    return finite_or_zero(1.0 / (PI * dist.alpha_x * dist.alpha_y * t * t));
+    return finite_or_zero(1.0 / (PI * a.x * a.y * t * t));
 }
 
 // Lambda(w) = q / (2 (1 + sqrt(1 + q))), q = (ax^2 x^2 + ay^2 y^2) / z^2; +inf at z = 0; Heitz 2014 eq. 86.
@@ -331,7 +349,8 @@ fn sample_wm_ndf(dist: TrowbridgeReitz, u_in: vec2<f32>) -> vec3<f32> {
     let u = sanitize_u2(u_in);
     let r = safe_sqrt(u.x);
     let sc = sincos_2pi(u.y);
-    return normalize_or_zero(vec3(dist.alpha_x * r * sc.y, dist.alpha_y * r * sc.x, safe_sqrt(1.0 - u.x)));
+    let a = alphas(dist);
+    return normalize_or_zero(vec3(a.x * r * sc.y, a.y * r * sc.x, safe_sqrt(1.0 - u.x)));
 }
 
 // p(wm) = D(wm) max(0, wm.z), 0 when not finite.
@@ -345,7 +364,8 @@ fn sample_wm_vndf(dist: TrowbridgeReitz, wo: vec3<f32>, u_in: vec2<f32>) -> vec3
         return vec3(0.0);
     }
     let u = sanitize_u2(u_in);
-    let vh = normalize_or_zero(vec3(dist.alpha_x * wo.x, dist.alpha_y * wo.y, wo.z));
+    let a = alphas(dist);
+    let vh = normalize_or_zero(vec3(a.x * wo.x, a.y * wo.y, wo.z));
     // Basis around vh, Heitz 2018's rule: t1 = (-vh.y, vh.x, 0) / |vh.xy|, X only when vh is
     // exactly the normal (no pbrt-v4 `vh.z >= 0.99999` shortcut).
     let lensq = vh.x * vh.x + vh.y * vh.y;
@@ -360,7 +380,7 @@ fn sample_wm_vndf(dist: TrowbridgeReitz, wo: vec3<f32>, u_in: vec2<f32>) -> vec3
     let s = 0.5 * (1.0 + vh.z);
     let p2 = (1.0 - s) * safe_sqrt(1.0 - p1 * p1) + s * (r * sc.x);
     let nh = p1 * t1 + p2 * t2 + safe_sqrt(1.0 - p1 * p1 - p2 * p2) * vh;
-    return normalize_or_zero(vec3(dist.alpha_x * nh.x, dist.alpha_y * nh.y, max_num(nh.z, 0.0)));
+    return normalize_or_zero(vec3(a.x * nh.x, a.y * nh.y, max_num(nh.z, 0.0)));
 }
 
 // Uniform point on the cap z in [-lower, 1] plus vh, unstretched; Dupuy & Benyoub 2023.
@@ -368,12 +388,13 @@ fn sample_wm_vndf(dist: TrowbridgeReitz, wo: vec3<f32>, u_in: vec2<f32>) -> vec3
 // t + (vh.z - lower)): h.z = z + vh.z without the cancellation as u1 -> 1 (exactly t for caps).
 fn sample_cap(dist: TrowbridgeReitz, vh: vec3<f32>, lower: f32, u_in: vec2<f32>) -> vec3<f32> {
     let u = sanitize_u2(u_in);
+    let a = alphas(dist);
     let sc = sincos_2pi(u.x);
     let t = (1.0 - u.y) * (1.0 + lower);
     let z = t - lower;
     let sin_theta = safe_sqrt(1.0 - z * z);
     let h = vec3(sin_theta * sc.y + vh.x, sin_theta * sc.x + vh.y, t + (vh.z - lower));
-    return normalize_or_zero(vec3(dist.alpha_x * h.x, dist.alpha_y * h.y, max_num(h.z, 0.0)));
+    return normalize_or_zero(vec3(a.x * h.x, a.y * h.y, max_num(h.z, 0.0)));
 }
 
 // Visible normals from the spherical cap z in [-vh.z, 1]; Dupuy & Benyoub 2023 listing 3.
@@ -381,13 +402,15 @@ fn sample_wm_spherical_caps(dist: TrowbridgeReitz, wo: vec3<f32>, u: vec2<f32>) 
     if !(wo.z > 0.0) {
         return vec3(0.0);
     }
-    let vh = normalize_or_zero(vec3(dist.alpha_x * wo.x, dist.alpha_y * wo.y, wo.z));
+    let a = alphas(dist);
+    let vh = normalize_or_zero(vec3(a.x * wo.x, a.y * wo.y, wo.z));
     return sample_cap(dist, vh, vh.z, u);
 }
 
 // k = (1 - a^2) s^2 / (s^2 + a^2 wo.z^2), a = min(ax, ay), s = 1 + |wo.xy|; Eto & Tokuyoshi 2023 eq. 5.
 fn bounded_k(dist: TrowbridgeReitz, wo: vec3<f32>) -> f32 {
-    let a = min_num(dist.alpha_x, dist.alpha_y);
+    let alpha = alphas(dist);
+    let a = min_num(alpha.x, alpha.y);
     let a2 = a * a;
     let s = 1.0 + sqrt(wo.x * wo.x + wo.y * wo.y);
     let s2 = s * s;
@@ -399,7 +422,8 @@ fn sample_wm_bounded(dist: TrowbridgeReitz, wo: vec3<f32>, u: vec2<f32>) -> vec3
     if !(wo.z > 0.0) {
         return vec3(0.0);
     }
-    let vh = normalize_or_zero(vec3(dist.alpha_x * wo.x, dist.alpha_y * wo.y, wo.z));
+    let a = alphas(dist);
+    let vh = normalize_or_zero(vec3(a.x * wo.x, a.y * wo.y, wo.z));
     return sample_cap(dist, vh, bounded_k(dist, wo) * vh.z, u);
 }
 

@@ -1,0 +1,950 @@
+//! The "any f32 in, no NaN out" contract, one property test per public function and method.
+//!
+//! Inputs mix special values (NaN, infinities, signed zeros, subnormals, `f32::MAX`,
+//! `1 - ulp`, `2^23`, negative values) with ordinary ones and arbitrary bit patterns; the `Pod`
+//! structs (`TrowbridgeReitz`, `GgxConductor`, `FresnelParams`, `Frame`, `CounterRng`,
+//! `SampleStream`) are also built field by field from arbitrary bits, bypassing the
+//! constructors. Each test asserts what the function's documentation promises: finite outputs,
+//! unit (or zero) directions, non-negative densities, values in `[0, 1]`, and, for everything
+//! that reads alphas, the same bits as the distribution the constructor would have made from
+//! the raw fields. The exceptions the crate documents (`math::sqrt` is IEEE, `safe_sqrt(+inf)`,
+//! `pdf_cosine_hemisphere` at `w.z = +inf` and `lambda` where `q` overflows are `+inf`) are
+//! asserted exactly.
+
+use ggx_core::batch::{self, Vec3Slices, Vec3SlicesMut};
+use ggx_core::fresnel::{FresnelParams, fresnel_complex, fresnel_dielectric, fresnel_schlick, kind};
+use ggx_core::math::{self, ONE_MINUS_EPSILON};
+use ggx_core::mis::{balance_heuristic, power_heuristic};
+use ggx_core::sequence::{
+    self as seq, CounterRng, SOBOL_DIMENSIONS, SOBOL_DIRECTIONS, SampleStream, SequenceKind, hash_combine,
+};
+use ggx_core::{
+    ALPHA_MAX, ALPHA_MIN, DELTA_ALPHA, Frame, Fresnel, GgxConductor, Sampling, TrowbridgeReitz, Vec2, Vec3, alpha,
+    alpha_to_roughness, reflect, roughness_to_alpha, warp,
+};
+use proptest::prelude::*;
+use proptest::test_runner::RngSeed;
+
+// ---------------------------------------------------------------------------------------------
+// Strategies
+// ---------------------------------------------------------------------------------------------
+
+const SPECIALS: [f32; 30] = [
+    f32::NAN,
+    -f32::NAN,
+    f32::INFINITY,
+    f32::NEG_INFINITY,
+    0.0,
+    -0.0,
+    1e-45,
+    -1e-45,
+    1e-40,
+    f32::MIN_POSITIVE,
+    1e-30,
+    1e-7,
+    0.25,
+    0.5,
+    ONE_MINUS_EPSILON,
+    -ONE_MINUS_EPSILON,
+    1.0,
+    -1.0,
+    1.000_000_1,
+    2.0,
+    -0.3,
+    8_388_607.5,
+    8_388_608.0,
+    -8_388_608.0,
+    1e30,
+    -1e30,
+    f32::MAX,
+    f32::MIN,
+    1e-4,
+    1e-3,
+];
+
+/// Any f32: special values, ordinary and negative values, the unit interval, arbitrary bits.
+fn any_f32() -> impl Strategy<Value = f32> {
+    prop_oneof![
+        3 => prop::sample::select(SPECIALS.to_vec()),
+        2 => -2.0f32..2.0,
+        1 => 0.0f32..1.0,
+        1 => -1e7f32..1e7,
+        2 => any::<u32>().prop_map(f32::from_bits),
+    ]
+}
+
+/// A raw `Pod` float field: anything `any_f32` gives, plus valid alphas from 1e-7 to 1.
+fn field() -> impl Strategy<Value = f32> {
+    prop_oneof![3 => any_f32(), 1 => (-7.0f32..=0.0).prop_map(|e| 10f32.powf(e))]
+}
+
+fn vec2() -> impl Strategy<Value = Vec2> {
+    (any_f32(), any_f32()).prop_map(|(x, y)| Vec2::new(x, y))
+}
+
+/// A direction: raw components, a unit vector on the hemisphere, or a grazing one.
+fn dir() -> impl Strategy<Value = Vec3> {
+    prop_oneof![
+        2 => (any_f32(), any_f32(), any_f32()).prop_map(|(x, y, z)| Vec3::new(x, y, z)),
+        2 => (0.0f32..1.0, 0.0f32..1.0).prop_map(|(a, b)| warp::sample_uniform_hemisphere(Vec2::new(a, b))),
+        1 => (-7.0f32..0.0, 0.0f32..6.3).prop_map(|(e, phi)| {
+            let z = 10f32.powf(e);
+            let r = (1.0 - z * z).sqrt();
+            Vec3::new(r * phi.cos(), r * phi.sin(), z)
+        }),
+    ]
+}
+
+/// A distribution whose fields bypass the constructor.
+fn raw_dist() -> impl Strategy<Value = TrowbridgeReitz> {
+    (field(), field(), any::<bool>())
+        .prop_map(|(x, y, iso)| TrowbridgeReitz { alpha_x: x, alpha_y: if iso { x } else { y } })
+}
+
+/// `FresnelParams` with any kind (known ones over-represented) and raw parameters.
+fn raw_fresnel() -> impl Strategy<Value = FresnelParams> {
+    let kinds = prop_oneof![3 => 0u32..4, 1 => any::<u32>()];
+    let v4 = || (field(), field(), field(), field()).prop_map(|(a, b, c, d)| [a, b, c, d]);
+    (kinds, field(), any::<[u32; 2]>(), v4(), v4()).prop_map(|(kind, eta, pad, a, b)| FresnelParams {
+        kind,
+        eta,
+        pad,
+        a,
+        b,
+    })
+}
+
+/// A conductor whose every field bypasses the constructor; sometimes all 64 bytes arbitrary.
+fn raw_brdf() -> impl Strategy<Value = GgxConductor> {
+    prop_oneof![
+        4 => (raw_dist(), any::<[u32; 2]>(), raw_fresnel())
+            .prop_map(|(distribution, pad, fresnel)| GgxConductor { distribution, pad, fresnel }),
+        1 => any::<[u32; 16]>().prop_map(bytemuck::cast::<[u32; 16], GgxConductor>),
+    ]
+}
+
+fn raw_frame() -> impl Strategy<Value = Frame> {
+    prop_oneof![
+        1 => dir().prop_map(Frame::from_z),
+        1 => proptest::array::uniform9(any_f32()).prop_map(bytemuck::cast::<[f32; 9], Frame>),
+    ]
+}
+
+fn fresnel_enum() -> impl Strategy<Value = Fresnel> {
+    let v = || (any_f32(), any_f32(), any_f32()).prop_map(|(a, b, c)| Vec3::new(a, b, c));
+    prop_oneof![
+        Just(Fresnel::One),
+        v().prop_map(|f0| Fresnel::Schlick { f0 }),
+        (v(), v()).prop_map(|(f0, f90)| Fresnel::SchlickF90 { f0, f90 }),
+        (v(), v()).prop_map(|(eta, k)| Fresnel::Conductor { eta, k }),
+        any_f32().prop_map(|eta| Fresnel::Dielectric { eta }),
+    ]
+}
+
+fn sampling() -> impl Strategy<Value = Sampling> {
+    prop::sample::select(Sampling::ALL.to_vec())
+}
+
+// ---------------------------------------------------------------------------------------------
+// Predicates
+// ---------------------------------------------------------------------------------------------
+
+/// Finite and not negative.
+fn ok(x: f32) -> bool {
+    x.is_finite() && x >= 0.0
+}
+
+fn ok3(v: Vec3) -> bool {
+    ok(v.x) && ok(v.y) && ok(v.z)
+}
+
+fn unit_interval(x: f32) -> bool {
+    (0.0..=1.0).contains(&x)
+}
+
+/// In `[0, 1)`.
+fn unit_open(x: f32) -> bool {
+    (0.0..1.0).contains(&x)
+}
+
+/// Zero, or unit length within 1e-5 with `z >= 0` (a microfacet normal).
+fn normal_or_zero(m: Vec3) -> bool {
+    m == Vec3::ZERO || (m.is_finite() && (m.length() - 1.0).abs() < 1e-5 && m.z >= 0.0)
+}
+
+fn same(a: f32, b: f32) -> bool {
+    a.to_bits() == b.to_bits()
+}
+
+fn same3(a: Vec3, b: Vec3) -> bool {
+    same(a.x, b.x) && same(a.y, b.y) && same(a.z, b.z)
+}
+
+/// The distribution the constructor makes from the raw fields: every method must agree with it.
+fn constructed(t: TrowbridgeReitz) -> TrowbridgeReitz {
+    TrowbridgeReitz::new(t.alpha_x, t.alpha_y)
+}
+
+fn constructed_brdf(b: GgxConductor) -> GgxConductor {
+    GgxConductor { distribution: constructed(b.distribution), ..b }
+}
+
+fn config() -> ProptestConfig {
+    // `cargo xtask fuzz` raises the budget through GGX_FUZZ_CASES.
+    let cases = std::env::var("GGX_FUZZ_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(4000);
+    ProptestConfig { cases, rng_seed: RngSeed::Fixed(0x636f_6e74), failure_persistence: None, ..Default::default() }
+}
+
+// ---------------------------------------------------------------------------------------------
+// math
+// ---------------------------------------------------------------------------------------------
+
+proptest! {
+    #![proptest_config(config())]
+
+    /// IEEE: finite for finite `x >= 0`, `+inf` for `+inf`, NaN for `x < 0` and NaN.
+    #[test]
+    fn math_sqrt(x in any_f32()) {
+        let r = math::sqrt(x);
+        if x >= 0.0 && x.is_finite() {
+            prop_assert!(ok(r), "{x} -> {r}");
+        } else if x == f32::INFINITY {
+            prop_assert_eq!(r, f32::INFINITY);
+        } else {
+            prop_assert!(r.is_nan(), "{x} -> {r}");
+        }
+    }
+
+    /// Never NaN; finite and `>= 0` except `safe_sqrt(+inf) = +inf`.
+    #[test]
+    fn math_safe_sqrt(x in any_f32()) {
+        let r = math::safe_sqrt(x);
+        prop_assert!(ok(r) || (x == f32::INFINITY && r == f32::INFINITY), "{x} -> {r}");
+    }
+
+    #[test]
+    fn math_finite_or_zero(x in any_f32()) {
+        let r = math::finite_or_zero(x);
+        prop_assert!(r.is_finite() && (r == x || (!x.is_finite() && r == 0.0)), "{x} -> {r}");
+    }
+
+    #[test]
+    fn math_sanitize_u(x in any_f32()) {
+        let r = math::sanitize_u(x);
+        prop_assert!(unit_open(r), "{x} -> {r}");
+        prop_assert!(!unit_open(x) || r == x, "{x} -> {r}");
+    }
+
+    #[test]
+    fn math_sanitize_u2(u in vec2()) {
+        let r = math::sanitize_u2(u);
+        prop_assert!(unit_open(r.x) && unit_open(r.y), "{u:?} -> {r:?}");
+    }
+
+    /// Zero or unit length, and idempotent.
+    #[test]
+    fn math_normalize_or_zero(v in dir(), scale in any_f32()) {
+        for v in [v, v * scale] {
+            let n = math::normalize_or_zero(v);
+            prop_assert!(n == Vec3::ZERO || (n.is_finite() && (n.length() - 1.0).abs() < 1e-5), "{v:?} -> {n:?}");
+            prop_assert_eq!(math::normalize_or_zero(n), n);
+        }
+    }
+
+    /// Finite, in [-1, 1], within 2e-7 of f64 at `u mod 1` for every finite u (|u| >= 2^23 is
+    /// an integer: exactly (0, 1)); NaN and infinities give (+-0, 1).
+    #[test]
+    fn math_sincos_2pi(u in any_f32()) {
+        let (s, c) = math::sincos_2pi(u);
+        prop_assert!(s.is_finite() && c.is_finite() && s.abs() <= 1.0 && c.abs() <= 1.0, "{u} -> {s} {c}");
+        if u.is_finite() {
+            let a = std::f64::consts::TAU * f64::from(u).rem_euclid(1.0);
+            let err = (f64::from(s) - a.sin()).abs().max((f64::from(c) - a.cos()).abs());
+            prop_assert!(err < 2e-7, "{u} -> {s} {c}, error {err}");
+        } else {
+            prop_assert!(s == 0.0 && c == 1.0, "{u} -> {s} {c}");
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// alpha
+// ---------------------------------------------------------------------------------------------
+
+proptest! {
+    #![proptest_config(config())]
+
+    #[test]
+    fn alpha_clamp_alpha(x in field()) {
+        let a = alpha::clamp_alpha(x);
+        prop_assert!((ALPHA_MIN..=ALPHA_MAX).contains(&a), "{x} -> {a}");
+        prop_assert!(!(ALPHA_MIN..=ALPHA_MAX).contains(&x) || a == x);
+    }
+
+    #[test]
+    fn alpha_roughness_to_alpha(x in field()) {
+        let a = roughness_to_alpha(x);
+        prop_assert!(unit_interval(a), "{x} -> {a}");
+    }
+
+    #[test]
+    fn alpha_alpha_to_roughness(x in field()) {
+        let r = alpha_to_roughness(x);
+        prop_assert!(unit_interval(r), "{x} -> {r}");
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// TrowbridgeReitz: raw fields behave as the constructor's clamp of them
+// ---------------------------------------------------------------------------------------------
+
+proptest! {
+    #![proptest_config(config())]
+
+    #[test]
+    fn trowbridge_reitz_new(x in field(), y in field()) {
+        let t = TrowbridgeReitz::new(x, y);
+        prop_assert!((ALPHA_MIN..=ALPHA_MAX).contains(&t.alpha_x) && (ALPHA_MIN..=ALPHA_MAX).contains(&t.alpha_y));
+        prop_assert_eq!(t.alphas(), (t.alpha_x, t.alpha_y));
+    }
+
+    #[test]
+    fn trowbridge_reitz_isotropic(x in field()) {
+        let t = TrowbridgeReitz::isotropic(x);
+        prop_assert!(t.is_isotropic() && (ALPHA_MIN..=ALPHA_MAX).contains(&t.alpha_x));
+        prop_assert_eq!(t, TrowbridgeReitz::new(x, x));
+    }
+
+    #[test]
+    fn trowbridge_reitz_alphas(t in raw_dist()) {
+        let (ax, ay) = t.alphas();
+        prop_assert!((ALPHA_MIN..=ALPHA_MAX).contains(&ax) && (ALPHA_MIN..=ALPHA_MAX).contains(&ay), "{t:?}");
+        prop_assert_eq!((ax, ay), constructed(t).alphas());
+    }
+
+    #[test]
+    fn trowbridge_reitz_is_isotropic(t in raw_dist()) {
+        prop_assert_eq!(t.is_isotropic(), constructed(t).is_isotropic(), "{:?}", t);
+    }
+
+    #[test]
+    fn trowbridge_reitz_is_effectively_smooth(t in raw_dist()) {
+        let smooth = t.is_effectively_smooth();
+        prop_assert_eq!(smooth, constructed(t).is_effectively_smooth(), "{:?}", t);
+        let (ax, ay) = t.alphas();
+        prop_assert_eq!(smooth, ax.max(ay) < DELTA_ALPHA);
+    }
+
+    #[test]
+    fn trowbridge_reitz_d(t in raw_dist(), wm in dir()) {
+        let d = t.d(wm);
+        prop_assert!(ok(d), "{t:?} {wm:?} -> {d}");
+        prop_assert!(same(d, constructed(t).d(wm)), "{t:?} {wm:?} -> {d}");
+    }
+
+    /// Never NaN, never negative; `+inf` only where `q = (ax^2 x^2 + ay^2 y^2) / z^2` overflows:
+    /// `w.z^2` is 0 (or underflows) under a non-zero tangential part, or the tangential part
+    /// (or `x^2 + y^2` on the isotropic path) itself overflows (non-unit `w`).
+    #[test]
+    fn trowbridge_reitz_lambda(t in raw_dist(), w in dir()) {
+        let l = t.lambda(w);
+        prop_assert!(!l.is_nan() && l >= 0.0, "{t:?} {w:?} -> {l}");
+        prop_assert!(same(l, constructed(t).lambda(w)));
+        if l.is_infinite() {
+            let (ax, ay) = t.alphas();
+            let (x, y, z) = (f64::from(ax * w.x), f64::from(ay * w.y), f64::from(w.z));
+            let (tangential, raw) = (x * x + y * y, f64::from(w.x).powi(2) + f64::from(w.y).powi(2));
+            let overflow = tangential.max(raw) > 3.0e38 || tangential / (z * z) > 1e37 || (w.z * w.z == 0.0 && tangential > 0.0);
+            prop_assert!(l == f32::INFINITY && overflow, "{t:?} {w:?} -> {l}");
+        }
+    }
+
+    #[test]
+    fn trowbridge_reitz_g1(t in raw_dist(), w in dir()) {
+        let g = t.g1(w);
+        prop_assert!(ok(g) && g <= 1.0, "{t:?} {w:?} -> {g}");
+        prop_assert!(same(g, constructed(t).g1(w)));
+    }
+
+    #[test]
+    fn trowbridge_reitz_g2(t in raw_dist(), wo in dir(), wi in dir()) {
+        let g = t.g2(wo, wi);
+        prop_assert!(ok(g) && g <= 1.0, "{t:?} -> {g}");
+        prop_assert!(same(g, constructed(t).g2(wo, wi)));
+    }
+
+    #[test]
+    fn trowbridge_reitz_g2_separable(t in raw_dist(), wo in dir(), wi in dir()) {
+        let g = t.g2_separable(wo, wi);
+        prop_assert!(ok(g) && g <= 1.0, "{t:?} -> {g}");
+        prop_assert!(same(g, constructed(t).g2_separable(wo, wi)));
+    }
+
+    #[test]
+    fn trowbridge_reitz_d_visible(t in raw_dist(), w in dir(), wm in dir()) {
+        let d = t.d_visible(w, wm);
+        prop_assert!(ok(d), "{t:?} {w:?} {wm:?} -> {d}");
+        prop_assert!(same(d, constructed(t).d_visible(w, wm)));
+    }
+
+    #[test]
+    fn trowbridge_reitz_sample_wm_ndf(t in raw_dist(), u in vec2()) {
+        let m = t.sample_wm_ndf(u);
+        prop_assert!(normal_or_zero(m), "{t:?} {u:?} -> {m:?}");
+        prop_assert!(same3(m, constructed(t).sample_wm_ndf(u)), "{t:?} {u:?} -> {m:?}");
+    }
+
+    #[test]
+    fn trowbridge_reitz_pdf_wm_ndf(t in raw_dist(), wm in dir()) {
+        let p = t.pdf_wm_ndf(wm);
+        prop_assert!(ok(p), "{t:?} {wm:?} -> {p}");
+        prop_assert!(same(p, constructed(t).pdf_wm_ndf(wm)));
+    }
+
+    #[test]
+    fn trowbridge_reitz_sample_wm_vndf(t in raw_dist(), wo in dir(), u in vec2()) {
+        let m = t.sample_wm_vndf(wo, u);
+        prop_assert!(normal_or_zero(m), "{t:?} {wo:?} {u:?} -> {m:?}");
+        prop_assert!(same3(m, constructed(t).sample_wm_vndf(wo, u)), "{t:?} {wo:?} {u:?} -> {m:?}");
+    }
+
+    #[test]
+    fn trowbridge_reitz_sample_wm_spherical_caps(t in raw_dist(), wo in dir(), u in vec2()) {
+        let m = t.sample_wm_spherical_caps(wo, u);
+        prop_assert!(normal_or_zero(m), "{t:?} {wo:?} {u:?} -> {m:?}");
+        prop_assert!(same3(m, constructed(t).sample_wm_spherical_caps(wo, u)), "{t:?} {wo:?} {u:?} -> {m:?}");
+    }
+
+    /// `k` in [0, 1] (alpha <= 1).
+    #[test]
+    fn trowbridge_reitz_bounded_k(t in raw_dist(), wo in dir()) {
+        let k = t.bounded_k(wo);
+        prop_assert!(unit_interval(k), "{t:?} {wo:?} -> {k}");
+        prop_assert!(same(k, constructed(t).bounded_k(wo)));
+    }
+
+    #[test]
+    fn trowbridge_reitz_sample_wm_bounded(t in raw_dist(), wo in dir(), u in vec2()) {
+        let m = t.sample_wm_bounded(wo, u);
+        prop_assert!(normal_or_zero(m), "{t:?} {wo:?} {u:?} -> {m:?}");
+        prop_assert!(same3(m, constructed(t).sample_wm_bounded(wo, u)), "{t:?} {wo:?} {u:?} -> {m:?}");
+    }
+
+    #[test]
+    fn trowbridge_reitz_pdf_wi_bounded(t in raw_dist(), wo in dir(), wm in dir()) {
+        let p = t.pdf_wi_bounded(wo, wm);
+        prop_assert!(ok(p), "{t:?} {wo:?} {wm:?} -> {p}");
+        prop_assert!(same(p, constructed(t).pdf_wi_bounded(wo, wm)));
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// warp
+// ---------------------------------------------------------------------------------------------
+
+proptest! {
+    #![proptest_config(config())]
+
+    #[test]
+    fn warp_sample_cosine_hemisphere(u in vec2()) {
+        let w = warp::sample_cosine_hemisphere(u);
+        prop_assert!(w.is_finite() && (w.length() - 1.0).abs() < 1e-5 && w.z > 0.0, "{u:?} -> {w:?}");
+        prop_assert!(warp::pdf_cosine_hemisphere(w) > 0.0);
+    }
+
+    /// Finite and `>= 0`, except `+inf` at `w.z = +inf`.
+    #[test]
+    fn warp_pdf_cosine_hemisphere(w in dir()) {
+        let p = warp::pdf_cosine_hemisphere(w);
+        prop_assert!(ok(p) || (w.z == f32::INFINITY && p == f32::INFINITY), "{w:?} -> {p}");
+    }
+
+    #[test]
+    fn warp_sample_uniform_hemisphere(u in vec2()) {
+        let w = warp::sample_uniform_hemisphere(u);
+        prop_assert!(w.is_finite() && (w.length() - 1.0).abs() < 1e-5 && w.z > 0.0, "{u:?} -> {w:?}");
+        prop_assert!(warp::pdf_uniform_hemisphere(w) > 0.0);
+    }
+
+    #[test]
+    fn warp_pdf_uniform_hemisphere(w in dir()) {
+        let p = warp::pdf_uniform_hemisphere(w);
+        prop_assert!(p == 0.0 || p == 0.5 / std::f32::consts::PI, "{w:?} -> {p}");
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// fresnel
+// ---------------------------------------------------------------------------------------------
+
+proptest! {
+    #![proptest_config(config())]
+
+    /// Finite for any input; in [0, 1] when `f0` and `f90` are.
+    #[test]
+    fn fresnel_fresnel_schlick(c in any_f32(), f0 in dir(), f90 in dir()) {
+        let f = fresnel_schlick(c, f0, f90);
+        prop_assert!(f.is_finite(), "{c} {f0:?} {f90:?} -> {f:?}");
+        let inside = |v: Vec3| v.cmpge(Vec3::ZERO).all() && v.cmple(Vec3::ONE).all();
+        prop_assert!(!(inside(f0) && inside(f90)) || inside(f), "{c} {f0:?} {f90:?} -> {f:?}");
+    }
+
+    /// In [0, 1] for any cosine and any `eta`.
+    #[test]
+    fn fresnel_fresnel_dielectric(c in any_f32(), eta in field()) {
+        let f = fresnel_dielectric(c, eta);
+        prop_assert!(unit_interval(f), "{c} {eta} -> {f}");
+    }
+
+    /// Finite and `>= 0` for any input; in [0, 1] for `eta >= 0`, `k >= 0`.
+    #[test]
+    fn fresnel_fresnel_complex(c in any_f32(), eta in field(), k in field()) {
+        let f = fresnel_complex(c, eta, k);
+        prop_assert!(ok(f), "{c} {eta} {k} -> {f}");
+        prop_assert!(!(eta >= 0.0 && k >= 0.0) || f <= 1.0 + 1e-6, "{c} {eta} {k} -> {f}");
+    }
+
+    #[test]
+    fn fresnel_params_eval(p in raw_fresnel(), c in any_f32()) {
+        let f = p.eval(c);
+        prop_assert!(ok3(f) && f.max_element() <= 1.0, "{p:?} {c} -> {f:?}");
+        if p.kind > kind::DIELECTRIC {
+            prop_assert_eq!(f, Vec3::ONE);
+        }
+    }
+
+    #[test]
+    fn fresnel_params_to_fresnel(p in raw_fresnel(), c in any_f32()) {
+        let e = p.to_fresnel();
+        let f = e.eval(c);
+        prop_assert!(ok3(f) && f.max_element() <= 1.0, "{p:?} {c} -> {f:?}");
+        prop_assert!(same3(f, p.eval(c)), "{p:?} {c}: {f:?} vs {:?}", p.eval(c));
+    }
+
+    #[test]
+    fn fresnel_params_from_fresnel(e in fresnel_enum(), c in any_f32()) {
+        let p = FresnelParams::from(e);
+        prop_assert!(p.kind <= kind::DIELECTRIC);
+        prop_assert!(same3(p.eval(c), e.eval(c)));
+    }
+
+    #[test]
+    fn fresnel_eval(e in fresnel_enum(), c in any_f32()) {
+        let f = e.eval(c);
+        prop_assert!(ok3(f) && f.max_element() <= 1.0, "{e:?} {c} -> {f:?}");
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// GgxConductor
+// ---------------------------------------------------------------------------------------------
+
+proptest! {
+    #![proptest_config(config())]
+
+    #[test]
+    fn ggx_conductor_new(x in field(), y in field(), f in fresnel_enum()) {
+        let b = GgxConductor::new(x, y, f);
+        prop_assert_eq!(b.distribution, TrowbridgeReitz::new(x, y));
+        prop_assert_eq!(b.pad, [0, 0]);
+        let expected = FresnelParams::from(f);
+        prop_assert_eq!(bytemuck::bytes_of(&b.fresnel), bytemuck::bytes_of(&expected));
+    }
+
+    #[test]
+    fn ggx_conductor_isotropic(x in field(), f in fresnel_enum()) {
+        let b = GgxConductor::isotropic(x, f);
+        prop_assert!(b.distribution.is_isotropic());
+        prop_assert_eq!(b.distribution, TrowbridgeReitz::isotropic(x));
+    }
+
+    #[test]
+    fn ggx_conductor_fresnel(b in raw_brdf(), c in any_f32()) {
+        let f = b.fresnel().eval(c);
+        prop_assert!(ok3(f) && f.max_element() <= 1.0, "{b:?} {c} -> {f:?}");
+    }
+
+    #[test]
+    fn ggx_conductor_is_delta(b in raw_brdf()) {
+        prop_assert_eq!(b.is_delta(), constructed_brdf(b).is_delta(), "{:?}", b);
+    }
+
+    #[test]
+    fn ggx_conductor_eval(b in raw_brdf(), wo in dir(), wi in dir()) {
+        let f = b.eval(wo, wi);
+        prop_assert!(ok3(f), "{b:?} {wo:?} {wi:?} -> {f:?}");
+        prop_assert!(same3(f, constructed_brdf(b).eval(wo, wi)), "{b:?} {wo:?} {wi:?} -> {f:?}");
+    }
+
+    #[test]
+    fn ggx_conductor_pdf(b in raw_brdf(), wo in dir(), wi in dir(), s in sampling()) {
+        let p = b.pdf(wo, wi, s);
+        prop_assert!(ok(p), "{b:?} {wo:?} {wi:?} {s:?} -> {p}");
+        prop_assert!(same(p, constructed_brdf(b).pdf(wo, wi, s)), "{b:?} {wo:?} {wi:?} {s:?} -> {p}");
+    }
+
+    /// `Some`: unit `wi` above the horizon, weight finite and `>= 0`, pdf finite and `> 0`.
+    #[test]
+    fn ggx_conductor_sample(b in raw_brdf(), wo in dir(), u in vec2(), s in sampling()) {
+        let r = b.sample(wo, u, s);
+        if let Some(bs) = r {
+            prop_assert!((bs.wi.length() - 1.0).abs() < 1e-5 && bs.wi.z > 0.0, "{b:?} {s:?} wi {:?}", bs.wi);
+            prop_assert!(ok3(bs.weight), "{b:?} {s:?} weight {:?}", bs.weight);
+            prop_assert!(bs.pdf > 0.0 && bs.pdf.is_finite(), "{b:?} {s:?} pdf {}", bs.pdf);
+        }
+        let c = constructed_brdf(b).sample(wo, u, s);
+        let key = |r: Option<ggx_core::BsdfSample>| {
+            r.map(|b| (b.wi.to_array().map(f32::to_bits), b.weight.to_array().map(f32::to_bits), b.pdf.to_bits(), b.is_delta))
+        };
+        prop_assert_eq!(key(r), key(c), "{:?} {:?} {:?} {:?}", b, wo, u, s);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sampling, mis, frame
+// ---------------------------------------------------------------------------------------------
+
+proptest! {
+    #![proptest_config(config())]
+
+    #[test]
+    fn sampling_from_u32(v in prop_oneof![0u32..8, any::<u32>()]) {
+        let s = Sampling::from_u32(v);
+        prop_assert!(Sampling::ALL.contains(&s));
+        prop_assert!(v > 5 || s as u32 == v);
+    }
+
+    #[test]
+    fn sampling_name(s in sampling()) {
+        let n = s.name();
+        prop_assert!(!n.is_empty() && Sampling::ALL.iter().filter(|t| t.name() == n).count() == 1);
+        prop_assert!(Sampling::MICROFACET.contains(&s) == (s as u32 <= 3));
+    }
+
+    #[test]
+    fn mis_balance_heuristic(nf in any_f32(), f in any_f32(), ng in any_f32(), g in any_f32()) {
+        let w = balance_heuristic(nf, f, ng, g);
+        prop_assert!(unit_interval(w), "{nf} {f} {ng} {g} -> {w}");
+    }
+
+    #[test]
+    fn mis_power_heuristic(nf in any_f32(), f in any_f32(), ng in any_f32(), g in any_f32()) {
+        let w = power_heuristic(nf, f, ng, g);
+        prop_assert!(unit_interval(w), "{nf} {f} {ng} {g} -> {w}");
+    }
+
+    /// Orthonormal and right-handed for any `n`.
+    #[test]
+    fn frame_from_z(n in dir()) {
+        let f = Frame::from_z(n);
+        for v in [f.x, f.y, f.z] {
+            prop_assert!(v.is_finite() && (v.length() - 1.0).abs() < 1e-5, "{n:?} -> {f:?}");
+        }
+        prop_assert!(f.x.dot(f.y).abs() < 1e-5 && f.x.dot(f.z).abs() < 1e-5 && f.y.dot(f.z).abs() < 1e-5, "{n:?}");
+        prop_assert!(f.x.cross(f.y).dot(f.z) > 0.999, "{n:?}");
+    }
+
+    #[test]
+    fn frame_to_local(f in raw_frame(), v in dir()) {
+        prop_assert!(f.to_local(v).is_finite(), "{f:?} {v:?}");
+    }
+
+    #[test]
+    fn frame_to_world(f in raw_frame(), v in dir()) {
+        prop_assert!(f.to_world(v).is_finite(), "{f:?} {v:?}");
+    }
+
+    #[test]
+    fn frame_reflect(wo in dir(), n in dir()) {
+        let r = reflect(wo, n);
+        prop_assert!(r.is_finite(), "{wo:?} {n:?} -> {r:?}");
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// sequence: u32 arithmetic only; floats in [0, 1) for any state
+// ---------------------------------------------------------------------------------------------
+
+proptest! {
+    #![proptest_config(config())]
+
+    /// A bijection: distinct inputs, distinct outputs.
+    #[test]
+    fn sequence_hash_u32(x in any::<u32>(), y in any::<u32>()) {
+        prop_assert_eq!(x == y, seq::hash_u32(x) == seq::hash_u32(y));
+    }
+
+    /// A bijection of `b` for a fixed `a`.
+    #[test]
+    fn sequence_hash_combine(a in any::<u32>(), b in any::<u32>(), c in any::<u32>()) {
+        prop_assert_eq!(b == c, hash_combine(a, b) == hash_combine(a, c));
+    }
+
+    /// In [0, 1), exactly the top 24 bits.
+    #[test]
+    fn sequence_u32_to_unit_f32(x in any::<u32>()) {
+        let u = seq::u32_to_unit_f32(x);
+        prop_assert!(unit_open(u));
+        prop_assert_eq!((u * 16_777_216.0) as u32, x >> 8);
+    }
+
+    #[test]
+    fn sequence_sobol(index in any::<u32>(), dim in any::<u32>()) {
+        let x = seq::sobol(index, dim);
+        prop_assert_eq!(x, seq::sobol(index, dim % SOBOL_DIMENSIONS));
+        // XOR of direction words over the set bits of the index.
+        let table = &SOBOL_DIRECTIONS[(dim % SOBOL_DIMENSIONS) as usize];
+        let reference = (0..32).filter(|k| index >> k & 1 == 1).fold(0, |x, k| x ^ table[k]);
+        prop_assert_eq!(x, reference);
+    }
+
+    /// A bijection that keeps prefixes: equal top bits in, equal top bits out.
+    #[test]
+    fn sequence_owen_scramble(x in any::<u32>(), y in any::<u32>(), seed in any::<u32>(), bits in 1u32..32) {
+        let (a, b) = (seq::owen_scramble(x, seed), seq::owen_scramble(y, seed));
+        prop_assert_eq!(x == y, a == b);
+        prop_assert!(x >> bits != y >> bits || a >> bits == b >> bits);
+    }
+
+    /// `reverse(owen_scramble(index, group_seed))`.
+    #[test]
+    fn sequence_shuffle_index_reversed(index in any::<u32>(), g in any::<u32>()) {
+        prop_assert_eq!(seq::shuffle_index_reversed(index, g), seq::owen_scramble(index, g).reverse_bits());
+    }
+
+    /// `owen_scramble(sobol(reverse(reversed), dim), hash_combine(group_seed, dim % 4))`.
+    #[test]
+    fn sequence_sobol_owen_shuffled(reversed in any::<u32>(), g in any::<u32>(), dim in any::<u32>()) {
+        let expected = seq::owen_scramble(seq::sobol(reversed.reverse_bits(), dim), hash_combine(g, dim & 3));
+        prop_assert_eq!(seq::sobol_owen_shuffled(reversed, g, dim), expected);
+    }
+
+    #[test]
+    fn sequence_sobol_owen_u32(index in any::<u32>(), dim in any::<u32>(), seed in any::<u32>()) {
+        let g = hash_combine(seed, dim >> 2);
+        let expected = seq::sobol_owen_shuffled(seq::shuffle_index_reversed(index, g), g, dim);
+        prop_assert_eq!(seq::sobol_owen_u32(index, dim, seed), expected);
+    }
+
+    #[test]
+    fn sequence_sobol_owen(index in any::<u32>(), dim in any::<u32>(), seed in any::<u32>()) {
+        let u = seq::sobol_owen(index, dim, seed);
+        prop_assert!(unit_open(u));
+        prop_assert_eq!(u, seq::u32_to_unit_f32(seq::sobol_owen_u32(index, dim, seed)));
+    }
+
+    #[test]
+    fn counter_rng_new(seed in any::<u32>(), stream in any::<u32>()) {
+        let r = CounterRng::new(seed, stream);
+        prop_assert_eq!(r, CounterRng { key: hash_combine(seed, stream), counter: 0 });
+    }
+
+    #[test]
+    fn counter_rng_get_u32(key in any::<u32>(), counter in any::<u32>(), n in any::<u32>()) {
+        let r = CounterRng { key, counter };
+        prop_assert_eq!(r.get_u32(n), hash_combine(key, n));
+    }
+
+    /// Output `counter`, counter + 1 (wrapping at `u32::MAX`).
+    #[test]
+    fn counter_rng_next_u32(key in any::<u32>(), counter in prop_oneof![Just(u32::MAX), any::<u32>()]) {
+        let mut r = CounterRng { key, counter };
+        prop_assert_eq!(r.next_u32(), hash_combine(key, counter));
+        prop_assert_eq!(r.counter, counter.wrapping_add(1));
+    }
+
+    #[test]
+    fn counter_rng_next_f32(key in any::<u32>(), counter in any::<u32>()) {
+        let mut r = CounterRng { key, counter };
+        let u = r.next_f32();
+        prop_assert!(unit_open(u));
+        prop_assert_eq!(u, seq::u32_to_unit_f32(hash_combine(key, counter)));
+    }
+
+    #[test]
+    fn counter_rng_next_vec2(key in any::<u32>(), counter in any::<u32>()) {
+        let mut r = CounterRng { key, counter };
+        let v = r.next_vec2();
+        prop_assert!(unit_open(v.x) && unit_open(v.y));
+        prop_assert_eq!(r.counter, counter.wrapping_add(2));
+    }
+
+    #[test]
+    fn counter_rng_advance(key in any::<u32>(), counter in any::<u32>(), delta in any::<u32>()) {
+        let mut r = CounterRng { key, counter };
+        r.advance(delta);
+        prop_assert_eq!(r.counter, counter.wrapping_add(delta));
+    }
+
+    /// The `rand_core` impls: `next_u64` is two outputs (low first), `fill_bytes` their
+    /// little-endian bytes for any length, `from_seed` is `new(le(seed[0..4]), le(seed[4..8]))`.
+    #[test]
+    fn counter_rng_rand_core(key in any::<u32>(), counter in any::<u32>(), len in 0usize..40, seed in any::<[u8; 8]>()) {
+        use rand_core::{Rng, SeedableRng};
+        let r = CounterRng { key, counter };
+        let (lo, hi) = (r.get_u32(counter), r.get_u32(counter.wrapping_add(1)));
+        prop_assert_eq!(Rng::next_u64(&mut r.clone()), u64::from(hi) << 32 | u64::from(lo));
+        let mut bytes = vec![0u8; len];
+        let mut f = r;
+        Rng::fill_bytes(&mut f, &mut bytes);
+        let expected: Vec<u8> = (0..len.div_ceil(4) as u32)
+            .flat_map(|i| r.get_u32(counter.wrapping_add(i)).to_le_bytes())
+            .take(len)
+            .collect();
+        prop_assert_eq!(bytes, expected);
+        let s = CounterRng::from_seed(seed);
+        let word = |k: usize| u32::from_le_bytes([seed[k], seed[k + 1], seed[k + 2], seed[k + 3]]);
+        prop_assert_eq!(s, CounterRng::new(word(0), word(4)));
+    }
+
+    #[test]
+    fn sequence_kind_from_u32(v in any::<u32>()) {
+        let k = SequenceKind::from_u32(v);
+        prop_assert_eq!(k == SequenceKind::Sobol, v == 1);
+    }
+
+    #[test]
+    fn sample_stream_new(sobol in any::<bool>(), seed in any::<u32>(), pixel in any::<u32>(), sample in any::<u32>()) {
+        let kind = if sobol { SequenceKind::Sobol } else { SequenceKind::Independent };
+        let s = SampleStream::new(kind, seed, pixel, sample);
+        prop_assert_eq!(s, SampleStream { kind: kind as u32, seed: hash_combine(seed, pixel), sample_index: sample, dimension: 0 });
+        prop_assert_eq!(s.sequence_kind(), kind);
+    }
+
+    #[test]
+    fn sample_stream_sequence_kind(s in any::<[u32; 4]>()) {
+        let s = bytemuck::cast::<[u32; 4], SampleStream>(s);
+        prop_assert_eq!(s.sequence_kind(), SequenceKind::from_u32(s.kind));
+    }
+
+    #[test]
+    fn sample_stream_get_u32(s in any::<[u32; 4]>(), dim in any::<u32>()) {
+        let s = bytemuck::cast::<[u32; 4], SampleStream>(s);
+        let x = s.get_u32(dim);
+        if s.kind == 1 {
+            prop_assert_eq!(x, seq::sobol_owen_u32(s.sample_index, dim, s.seed));
+        } else {
+            prop_assert_eq!(x, hash_combine(hash_combine(s.seed, s.sample_index), dim));
+        }
+    }
+
+    #[test]
+    fn sample_stream_next_1d(s in any::<[u32; 4]>(), near_max in any::<bool>()) {
+        let mut s = bytemuck::cast::<[u32; 4], SampleStream>(s);
+        if near_max {
+            s.dimension |= 0xffff_fffe;
+        }
+        let d = s.dimension;
+        let u = s.next_1d();
+        prop_assert!(unit_open(u));
+        prop_assert_eq!(u, seq::u32_to_unit_f32(SampleStream { dimension: 0, ..s }.get_u32(d)));
+        prop_assert_eq!(s.dimension, d.wrapping_add(1));
+    }
+
+    /// Dimensions `d, d + 1` with `d = 4 ceil(dimension / 4)` (wrapping), in [0, 1).
+    #[test]
+    fn sample_stream_next_2d(s in any::<[u32; 4]>(), near_max in any::<bool>()) {
+        let mut s = bytemuck::cast::<[u32; 4], SampleStream>(s);
+        if near_max {
+            s.dimension |= 0xffff_fffc;
+        }
+        let d = s.dimension.wrapping_add(3) & !3;
+        let p = s.next_2d();
+        prop_assert!(unit_open(p.x) && unit_open(p.y));
+        prop_assert_eq!(p.x, seq::u32_to_unit_f32(s.get_u32(d)));
+        prop_assert_eq!(p.y, seq::u32_to_unit_f32(s.get_u32(d.wrapping_add(1))));
+        prop_assert_eq!(s.dimension, d.wrapping_add(2));
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// batch
+// ---------------------------------------------------------------------------------------------
+
+/// Up to 8 lanes of raw floats per slice, slices of unequal lengths.
+fn lanes() -> impl Strategy<Value = Vec<f32>> {
+    prop::collection::vec(any_f32(), 0..8)
+}
+
+/// Lanes of directions: raw or unit.
+fn dir_lanes() -> impl Strategy<Value = Vec<Vec3>> {
+    prop::collection::vec(dir(), 0..8)
+}
+
+fn split(v: &[Vec3], drop: usize) -> [Vec<f32>; 3] {
+    let n = v.len();
+    [
+        v.iter().map(|w| w.x).collect(),
+        v.iter().map(|w| w.y).take(n.saturating_sub(drop)).collect(),
+        v.iter().map(|w| w.z).collect(),
+    ]
+}
+
+proptest! {
+    #![proptest_config(config())]
+
+    /// Returns the number of valid lanes among `min` of the lengths; valid lanes have a finite
+    /// `wi` above the horizon (unit for a unit `wo`) and a finite positive pdf, the others zero;
+    /// as `constructed`.
+    #[test]
+    fn batch_sample_vndf(t in raw_dist(), wo in dir_lanes(), u0 in lanes(), u1 in lanes(), drop in 0usize..2, extra in 0usize..3) {
+        let [ox, oy, oz] = split(&wo, drop);
+        let run = |t: &TrowbridgeReitz| {
+            let n_out = wo.len() + extra;
+            let (mut x, mut y, mut z, mut p) = (vec![9.0; n_out], vec![9.0; n_out], vec![9.0; n_out], vec![9.0; n_out]);
+            let valid = batch::sample_vndf(
+                t,
+                Vec3Slices { x: &ox, y: &oy, z: &oz },
+                &u0,
+                &u1,
+                Vec3SlicesMut { x: &mut x, y: &mut y, z: &mut z },
+                &mut p,
+            );
+            (valid, x, y, z, p)
+        };
+        let (valid, x, y, z, p) = run(&t);
+        let n = [ox.len(), oy.len(), oz.len(), u0.len(), u1.len()].into_iter().min().unwrap();
+        prop_assert_eq!(valid, (0..n).filter(|&i| p[i] > 0.0).count());
+        for i in 0..n {
+            let w = Vec3::new(x[i], y[i], z[i]);
+            prop_assert!(ok(p[i]), "{t:?} lane {i} pdf {}", p[i]);
+            // wi is the reflection of wo: unit for a unit wo.
+            let unit_wo = (wo[i].length() - 1.0).abs() < 1e-6;
+            prop_assert!(
+                if p[i] > 0.0 { w.is_finite() && w.z > 0.0 && (!unit_wo || (w.length() - 1.0).abs() < 1e-4) } else { w == Vec3::ZERO },
+                "{t:?} lane {i} wo {:?} wi {w:?} pdf {}", wo[i], p[i]
+            );
+        }
+        // Lanes past n are untouched.
+        prop_assert!(p[n..].iter().all(|&v| v == 9.0));
+        let c = run(&constructed(t));
+        let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        prop_assert!(valid == c.0 && bits(&x) == bits(&c.1) && bits(&y) == bits(&c.2) && bits(&z) == bits(&c.3) && bits(&p) == bits(&c.4), "{t:?}");
+    }
+
+    /// Finite, non-negative RGB for `min` of the lengths; as `constructed`.
+    #[test]
+    fn batch_eval(b in raw_brdf(), wo in dir_lanes(), wi in dir_lanes(), drop in 0usize..2) {
+        let [ox, oy, oz] = split(&wo, drop);
+        let [ix, iy, iz] = split(&wi, 0);
+        let run = |b: &GgxConductor| {
+            let n_out = wo.len().max(wi.len());
+            let (mut r, mut g, mut bl) = (vec![9.0; n_out], vec![9.0; n_out], vec![9.0; n_out]);
+            batch::eval(
+                b,
+                Vec3Slices { x: &ox, y: &oy, z: &oz },
+                Vec3Slices { x: &ix, y: &iy, z: &iz },
+                Vec3SlicesMut { x: &mut r, y: &mut g, z: &mut bl },
+            );
+            (r, g, bl)
+        };
+        let (r, g, bl) = run(&b);
+        let n = [ox.len(), oy.len(), oz.len(), ix.len(), iy.len(), iz.len()].into_iter().min().unwrap();
+        for i in 0..n {
+            prop_assert!(ok3(Vec3::new(r[i], g[i], bl[i])), "{b:?} lane {i}: {} {} {}", r[i], g[i], bl[i]);
+        }
+        let c = run(&constructed_brdf(b));
+        let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        prop_assert!(bits(&r) == bits(&c.0) && bits(&g) == bits(&c.1) && bits(&bl) == bits(&c.2), "{b:?}");
+    }
+}
