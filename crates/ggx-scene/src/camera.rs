@@ -29,14 +29,12 @@ pub struct Camera {
 impl Camera {
     /// Builds a camera looking from `position` at `look_at`; `None` when the two coincide or
     /// `up` is (nearly) parallel to the view direction.
+    ///
+    /// The basis is computed in `f32`, or in `f64` where `f32` overflows (a camera `1e20`
+    /// away from what it looks at: the squared distance is over `f32::MAX`).
     pub fn look_at(position: Vec3, look_at: Vec3, up: Vec3, fov_y_degrees: f32, resolution: [u32; 2]) -> Option<Self> {
-        let forward = (look_at - position).try_normalize()?;
-        let right = forward.cross(up.try_normalize()?);
-        if right.length() < 1e-4 {
-            return None;
-        }
-        let right = right.normalize();
-        Some(Self { position, forward, right, up: right.cross(forward), fov_y_degrees, resolution })
+        let [forward, right, up] = basis_f32(position, look_at, up).or_else(|| basis_f64(position, look_at, up))?;
+        Some(Self { position, forward, right, up, fov_y_degrees, resolution })
     }
 
     /// `tan(fov_y / 2)`: half the height of the image plane at distance 1.
@@ -80,16 +78,104 @@ impl Camera {
                 [w, h]
             }
         };
-        if (look_at - position).length() <= 1e-6 * position.abs().max_element().max(1.0) {
-            let msg = "camera position and look_at coincide";
-            return Err(src.error(raw.look_at.span(), "camera.look_at", ErrorKind::Degenerate, msg));
-        }
+        check_distance(src, raw, position, look_at)?;
         Self::look_at(position, look_at, Vec3::from(up), fov, resolution).ok_or_else(|| {
             let span = raw.up.as_ref().map_or(raw.look_at.span(), |u| u.span());
             let msg = "up must be non-zero and not parallel to the view direction";
             src.error(span, "camera.up", ErrorKind::Degenerate, msg)
         })
     }
+}
+
+/// `[forward, right, up]` in `f32`; `None` when degenerate or when `f32` overflows.
+fn basis_f32(position: Vec3, look_at: Vec3, up: Vec3) -> Option<[Vec3; 3]> {
+    let forward = (look_at - position).try_normalize()?;
+    let right = forward.cross(up.try_normalize()?);
+    if right.length() < 1e-4 {
+        return None;
+    }
+    let right = right.normalize();
+    Some([forward, right, right.cross(forward)])
+}
+
+/// `[forward, right, up]` computed in `f64`, for positions whose squared distances overflow
+/// `f32`; `None` when degenerate.
+fn basis_f64(position: Vec3, look_at: Vec3, up: Vec3) -> Option<[Vec3; 3]> {
+    let forward = f64x3::normalize(f64x3::sub(f64x3::from(look_at), f64x3::from(position)))?;
+    let right = f64x3::cross(forward, f64x3::normalize(f64x3::from(up))?);
+    if f64x3::length(right) < 1e-4 {
+        return None;
+    }
+    let right = f64x3::normalize(right)?;
+    Some([forward, right, f64x3::cross(right, forward)].map(|v| Vec3::from(v.map(|c| c as f32)).normalize()))
+}
+
+/// The few `f64` vector operations the far-camera fallback needs (glam is built without
+/// its `f64` types here).
+mod f64x3 {
+    use glam::Vec3;
+
+    /// An `f64` 3-vector.
+    pub type V = [f64; 3];
+
+    /// `v` in `f64`.
+    pub fn from(v: Vec3) -> V {
+        v.to_array().map(f64::from)
+    }
+    /// `a - b`.
+    pub fn sub(a: V, b: V) -> V {
+        [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+    }
+    /// `a x b`.
+    pub fn cross(a: V, b: V) -> V {
+        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    }
+    /// Euclidean length.
+    pub fn length(v: V) -> f64 {
+        (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+    }
+    /// `v / |v|`, `None` for a zero or non-finite length.
+    pub fn normalize(v: V) -> Option<V> {
+        let l = length(v);
+        (l > 0.0 && l.is_finite()).then(|| v.map(|c| c / l))
+    }
+}
+
+/// Checks that the view direction `look_at - position` exists in `f32`: its components must
+/// not overflow (the farther of the two points is blamed), and `look_at` must be farther
+/// from `position` than `f32` can resolve at that distance from the origin.
+fn check_distance(src: Source<'_>, raw: &RawCamera, position: Vec3, look_at: Vec3) -> Result<(), SceneError> {
+    let d = look_at - position;
+    let size = |p: Vec3| p.abs().max_element();
+    if !d.is_finite() {
+        let (span, field) = if size(position) > size(look_at) {
+            (raw.position.span(), "camera.position")
+        } else {
+            (raw.look_at.span(), "camera.look_at")
+        };
+        let far = f64x3::sub(f64x3::from(look_at), f64x3::from(position)).map(f64::abs).into_iter().fold(0.0, f64::max);
+        let msg = format!(
+            "position and look_at are too far apart for f32: look_at - position has a component of {far:.1e}, over \
+             f32's max {:.1e}",
+            f32::MAX
+        );
+        return Err(src.error(span, field, ErrorKind::Degenerate, msg));
+    }
+    let distance = f64x3::length(f64x3::from(d));
+    let resolution = 1e-6 * f64::from(size(position).max(1.0));
+    if distance <= resolution {
+        let msg = if d == Vec3::ZERO {
+            "camera position and look_at coincide".to_owned()
+        } else {
+            format!(
+                "camera position and look_at coincide in f32 precision: they are {distance:.1e} apart, at most 1e-6 \
+                 times the position's largest coordinate {:.1e}",
+                size(position)
+            )
+        };
+        return Err(src.error(raw.look_at.span(), "camera.look_at", ErrorKind::Degenerate, msg));
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -105,5 +191,15 @@ mod tests {
         let expected = Vec3::new(2.0, 1.0, -1.0).normalize();
         assert!((d - expected).length() < 1e-5, "{d}");
         assert!(Camera::look_at(Vec3::ZERO, Vec3::Y, Vec3::Y, 40.0, [1, 1]).is_none());
+    }
+
+    #[test]
+    fn far_cameras_get_a_basis_in_f64() {
+        let far = Vec3::new(0.0, 0.0, 1e20);
+        assert!(basis_f32(far, Vec3::ZERO, Vec3::Y).is_none(), "f32 overflows, the f64 fallback is exercised");
+        let cam = Camera::look_at(far, Vec3::ZERO, Vec3::Y, 40.0, [1, 1]).unwrap();
+        assert_eq!(cam.forward, -Vec3::Z);
+        assert_eq!(cam.right, Vec3::X);
+        assert_eq!(cam.up, Vec3::Y);
     }
 }

@@ -55,16 +55,16 @@ impl fmt::Display for Interval {
 }
 
 impl Source<'_> {
-    /// A finite number inside `range`.
-    pub fn number(&self, v: &Spanned<f32>, field: &str, range: Interval) -> Result<f32, SceneError> {
+    /// A finite number inside `range`, as `f32`.
+    pub fn number(&self, v: &Spanned<f64>, field: &str, range: Interval) -> Result<f32, SceneError> {
         self.components(v.span(), &[*v.get_ref()], field, range)?;
-        Ok(*v.get_ref())
+        Ok(*v.get_ref() as f32)
     }
 
     /// An optional number, `default` when absent.
     pub fn number_or(
         &self,
-        v: Option<&Spanned<f32>>,
+        v: Option<&Spanned<f64>>,
         default: f32,
         field: &str,
         range: Interval,
@@ -72,22 +72,26 @@ impl Source<'_> {
         v.map_or(Ok(default), |v| self.number(v, field, range))
     }
 
-    /// An array of finite numbers, each inside `range`.
+    /// An array of finite numbers, each inside `range`, as `f32`.
     pub fn array<const N: usize>(
         &self,
-        v: &Spanned<[f32; N]>,
+        v: &Spanned<[f64; N]>,
         field: &str,
         range: Interval,
     ) -> Result<[f32; N], SceneError> {
         self.components(v.span(), v.get_ref(), field, range)?;
-        Ok(*v.get_ref())
+        Ok(v.get_ref().map(|x| x as f32))
     }
 
-    /// Checks every component of a value at `span`.
+    /// Checks every component of a value at `span` before it is converted to `f32`: NaN and
+    /// infinities are [`ErrorKind::NonFinite`]; a magnitude over `f32::MAX` (which `f32`
+    /// would round to infinity) and a value outside `range` are [`ErrorKind::OutOfRange`].
+    /// The range is checked on the `f32` value, the one the renderer uses; messages show the
+    /// value as written.
     pub fn components(
         &self,
         span: std::ops::Range<usize>,
-        values: &[f32],
+        values: &[f64],
         field: &str,
         range: Interval,
     ) -> Result<(), SceneError> {
@@ -97,8 +101,12 @@ impl Source<'_> {
                 let msg = format!("must be a finite number, got {x}{}", which(i));
                 return Err(self.error(span, field, ErrorKind::NonFinite, msg));
             }
-            if !range.contains(x) {
-                let msg = format!("must be {range}, got {x}{}", which(i));
+            if x.abs() > f64::from(f32::MAX) {
+                let msg = format!("is too large for f32 (max {:.1e}), got {x:e}{}", f32::MAX, which(i));
+                return Err(self.error(span, field, ErrorKind::OutOfRange, msg));
+            }
+            if !range.contains(x as f32) {
+                let msg = format!("must be {range}, got {}{}", show(x), which(i));
                 return Err(self.error(span, field, ErrorKind::OutOfRange, msg));
             }
         }
@@ -135,6 +143,13 @@ impl Source<'_> {
         }
         Ok(())
     }
+}
+
+/// `x` as written in messages: plain for ordinary magnitudes, in scientific notation for
+/// very large or very small ones (`1e300`, not 301 digits).
+pub(crate) fn show(x: f64) -> String {
+    let a = x.abs();
+    if a != 0.0 && !(1e-6..1e16).contains(&a) { format!("{x:e}") } else { format!("{x}") }
 }
 
 /// The span of an optional spanned value.

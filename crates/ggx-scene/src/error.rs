@@ -5,6 +5,8 @@ use std::ops::Range;
 
 use thiserror::Error;
 
+use crate::shorten::{short_field, short_message};
+
 /// The class of a [`SceneError`], for callers (and tests) that branch on it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum ErrorKind {
@@ -27,6 +29,9 @@ pub enum ErrorKind {
     /// Degenerate geometry: a zero-area light, a camera that looks nowhere, a transform that
     /// overflows.
     Degenerate,
+    /// The scene is over one of the [`crate::Limits`] (file size, triangles, memory); the
+    /// message names the limit and the `ggx` flag that raises it.
+    Limit,
 }
 
 /// An error while loading a scene.
@@ -40,6 +45,17 @@ pub enum SceneError {
         /// The underlying I/O error.
         #[source]
         source: io::Error,
+    },
+    /// The scene file is not a regular file (a directory, FIFO or device) or is larger than
+    /// [`crate::Limits::max_scene_bytes`]; `kind` is [`ErrorKind::Io`] or [`ErrorKind::Limit`].
+    #[error("{message}")]
+    Unreadable {
+        /// The scene file as given.
+        path: String,
+        /// What class of error this is.
+        kind: ErrorKind,
+        /// What is wrong, starting with the path.
+        message: String,
     },
     /// An error at a position in the scene file.
     #[error("{file}:{line}:{column}: {}{message}", field_prefix(.field))]
@@ -69,22 +85,23 @@ impl SceneError {
     pub fn kind(&self) -> ErrorKind {
         match self {
             Self::Read { .. } => ErrorKind::Io,
+            Self::Unreadable { kind, .. } => *kind,
             Self::At { kind, .. } => *kind,
         }
     }
 
-    /// The field path, empty for read errors and errors outside any field.
+    /// The field path, empty for errors reading the file and errors outside any field.
     pub fn field(&self) -> &str {
         match self {
-            Self::Read { .. } => "",
+            Self::Read { .. } | Self::Unreadable { .. } => "",
             Self::At { field, .. } => field,
         }
     }
 
-    /// `(line, column)`, both 1-based, or `None` for read errors.
+    /// `(line, column)`, both 1-based, or `None` for errors reading the file.
     pub fn line_column(&self) -> Option<(usize, usize)> {
         match self {
-            Self::Read { .. } => None,
+            Self::Read { .. } | Self::Unreadable { .. } => None,
             Self::At { line, column, .. } => Some((*line, *column)),
         }
     }
@@ -112,16 +129,17 @@ pub(crate) struct Source<'a> {
 }
 
 impl Source<'_> {
-    /// An error at `span` in field `field`.
+    /// An error at `span` in field `field`. User text in `field` and in `message` (quoted
+    /// with backticks or double quotes) is shortened ([`crate::shorten`]).
     pub fn error(&self, span: Range<usize>, field: &str, kind: ErrorKind, message: impl Into<String>) -> SceneError {
         let (line, column) = line_column(self.text, span.start);
         SceneError::At {
             file: self.file.to_owned(),
             line,
             column,
-            field: field.to_owned(),
+            field: short_field(field),
             kind,
-            message: message.into(),
+            message: short_message(&message.into()),
         }
     }
 }

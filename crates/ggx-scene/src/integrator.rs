@@ -3,7 +3,7 @@
 use serde::Deserialize;
 
 use crate::check::Interval;
-use crate::error::{SceneError, Source};
+use crate::error::{ErrorKind, SceneError, Source};
 use crate::raw::RawIntegrator;
 
 /// How the BSDF's GGX lobe is importance sampled.
@@ -58,7 +58,7 @@ pub struct IntegratorSettings {
     pub russian_roulette: u32,
     /// Time budget in seconds, `None` for no limit.
     pub time_budget: Option<f32>,
-    /// Seed of the sample sequence.
+    /// Seed of the sample sequence, in `[0, MAX_SEED]`.
     pub seed: u64,
     /// The sample sequence.
     pub sampler: SamplerKind,
@@ -87,6 +87,9 @@ impl Default for IntegratorSettings {
 pub const MAX_SPP: u32 = 1 << 24;
 /// Largest accepted `max_depth`.
 pub const MAX_DEPTH: u32 = 1024;
+/// Largest accepted `seed`: seeds are `[0, 2^32 - 1]`, the renderers' 32-bit stream seed, so
+/// that every accepted seed gives a distinct sample stream.
+pub const MAX_SEED: u64 = u32::MAX as u64;
 
 impl IntegratorSettings {
     /// Validates `[integrator]`; absent keys take the [`Default`] values.
@@ -108,10 +111,22 @@ impl IntegratorSettings {
                 d.russian_roulette,
             )?,
             time_budget: (time > 0.0).then_some(time),
-            seed: raw.seed.unwrap_or(d.seed),
+            seed: seed(src, raw.seed.as_ref())?.unwrap_or(d.seed),
             sampler: raw.sampler.unwrap_or(d.sampler),
             bsdf_sampling: raw.bsdf_sampling.unwrap_or(d.bsdf_sampling),
             light_strategy: raw.light_strategy.unwrap_or(d.light_strategy),
         })
+    }
+}
+
+/// `integrator.seed` in `[0, MAX_SEED]`.
+fn seed(src: Source<'_>, raw: Option<&toml::Spanned<i64>>) -> Result<Option<u64>, SceneError> {
+    let Some(v) = raw else { return Ok(None) };
+    match u64::try_from(*v.get_ref()) {
+        Ok(seed) if seed <= MAX_SEED => Ok(Some(seed)),
+        _ => {
+            let msg = format!("must be in [0, {MAX_SEED}] (2^32 - 1), got {}", v.get_ref());
+            Err(src.error(v.span(), "integrator.seed", ErrorKind::OutOfRange, msg))
+        }
     }
 }

@@ -22,13 +22,17 @@ mod features;
 mod geometry;
 mod integrator;
 mod lights;
+mod limits;
 mod material;
 mod material_build;
+mod memory;
 mod mesh;
+mod radiance;
 mod raw;
 mod scene;
 mod scene_build;
 mod shape_build;
+mod shorten;
 mod stats;
 mod toml_error;
 
@@ -42,29 +46,63 @@ pub use environment::{
 };
 pub use error::{ErrorKind, SceneError};
 pub use features::SceneFeatures;
-pub use geometry::{Geometry, cube, disk, icosphere, parse_obj, rectangle};
-pub use integrator::{BsdfStrategy, IntegratorSettings, LightStrategy, MAX_DEPTH, MAX_SPP, SamplerKind};
+pub use geometry::{Geometry, cube, disk, icosphere, parse_obj, parse_obj_with_limits, rectangle};
+pub use integrator::{BsdfStrategy, IntegratorSettings, LightStrategy, MAX_DEPTH, MAX_SEED, MAX_SPP, SamplerKind};
 pub use lights::{AreaLight, AreaLights, Emitter};
+pub use limits::{Limit, LimitError, Limits, ReadError, format_bytes, read_regular_file, read_regular_file_or};
 pub use material::{ConductorFresnel, ConductorPreset, GpuMaterial, Material, luminance};
+pub use memory::{
+    BYTES_PER_TEXEL, BYTES_PER_TRIANGLE, FILM_BYTES_PER_PIXEL, MemoryEstimate, estimate_memory, film_bytes, map_bytes,
+    triangle_bytes,
+};
 pub use mesh::{NO_INDEX, ShadingNormals, Triangle, TriangleMesh};
+pub use radiance::MAX_RADIANCE;
 pub use scene::Scene;
 pub use shape_build::{MAX_SEGMENTS, MAX_SUBDIVISIONS};
 pub use stats::SceneStats;
 
 use error::Source;
 
-/// Reads and validates the scene file at `path`; meshes and maps resolve relative to its
-/// directory.
+/// Reads and validates the scene file at `path` within [`Limits::default`]; meshes and maps
+/// resolve relative to its directory.
 pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
-    let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read { path: name.clone(), source })?;
-    parse_scene(&text, &name, path.parent().unwrap_or(Path::new(".")))
+    load_scene_with(path, &Limits::default())
 }
 
-/// Parses and validates scene `text`. `file_name` is only used in error messages and
-/// [`Scene::source`]; relative mesh and map paths resolve against `base_dir`.
+/// Reads and validates the scene file at `path` within `limits`: only a regular file of at
+/// most [`Limits::max_scene_bytes`] is read (a directory, FIFO or device such as `/dev/zero`
+/// is refused before it is opened), it must be UTF-8, and its meshes, maps, triangles and
+/// memory stay within `limits`. Meshes and maps resolve relative to its directory.
+pub fn load_scene_with(path: &Path, limits: &Limits) -> Result<Scene, SceneError> {
+    let name = path.display().to_string();
+    let bytes = read_regular_file_or(path, "scene file", Limit::SceneBytes, limits).map_err(|e| {
+        let kind = if matches!(e, ReadError::Limit(_)) { ErrorKind::Limit } else { ErrorKind::Io };
+        SceneError::Unreadable { path: name.clone(), kind, message: e.to_string() }
+    })?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        let valid = e.utf8_error().valid_up_to();
+        let (line, column) = error::line_column(&String::from_utf8_lossy(&e.as_bytes()[..valid]), valid);
+        let message = format!("not UTF-8 text (invalid byte at line {line}, column {column})");
+        SceneError::Read { path: name.clone(), source: std::io::Error::new(std::io::ErrorKind::InvalidData, message) }
+    })?;
+    parse_scene_with(&text, &name, path.parent().unwrap_or(Path::new(".")), limits)
+}
+
+/// Parses and validates scene `text` within [`Limits::default`]. `file_name` is only used in
+/// error messages and [`Scene::source`]; relative mesh and map paths resolve against
+/// `base_dir`.
 pub fn parse_scene(text: &str, file_name: &str, base_dir: &Path) -> Result<Scene, SceneError> {
+    parse_scene_with(text, file_name, base_dir, &Limits::default())
+}
+
+/// [`parse_scene`] within `limits`: the text (at most [`Limits::max_scene_bytes`]), its
+/// meshes and maps, the triangle count and the estimated memory ([`MemoryEstimate`]) are
+/// checked before anything big is allocated.
+pub fn parse_scene_with(text: &str, file_name: &str, base_dir: &Path, limits: &Limits) -> Result<Scene, SceneError> {
     let src = Source { text, file: file_name };
+    limits
+        .check(Limit::SceneBytes, "scene text", text.len() as u64)
+        .map_err(|e| src.error(0..0, "", ErrorKind::Limit, e.to_string()))?;
     let raw: raw::RawScene = toml::from_str(text).map_err(|e| toml_error::convert(src, &e))?;
-    scene_build::build(src, &raw, base_dir)
+    scene_build::build(src, &raw, base_dir, limits)
 }

@@ -1,5 +1,7 @@
 //! The scene file as written: serde structures mirroring the TOML, every user-facing value
-//! wrapped in [`Spanned`] so that validation can point at it. Validation lives in the
+//! wrapped in [`Spanned`] so that validation can point at it. Numbers stay `f64` (TOML's
+//! own type) until validation converts them to `f32`, so that `1e39` is reported as too
+//! large instead of silently becoming infinity. Validation lives in the
 //! modules that own each part (camera, materials, shapes, environment).
 
 use std::collections::BTreeMap;
@@ -33,10 +35,10 @@ pub(crate) struct RawScene {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawCamera {
-    pub position: Spanned<[f32; 3]>,
-    pub look_at: Spanned<[f32; 3]>,
-    pub up: Opt<[f32; 3]>,
-    pub fov_y: Opt<f32>,
+    pub position: Spanned<[f64; 3]>,
+    pub look_at: Spanned<[f64; 3]>,
+    pub up: Opt<[f64; 3]>,
+    pub fov_y: Opt<f64>,
     pub resolution: Opt<[u32; 2]>,
 }
 
@@ -47,8 +49,8 @@ pub(crate) struct RawIntegrator {
     pub spp: Opt<u32>,
     pub max_depth: Opt<u32>,
     pub russian_roulette: Opt<u32>,
-    pub time: Opt<f32>,
-    pub seed: Option<u64>,
+    pub time: Opt<f64>,
+    pub seed: Opt<i64>,
     pub sampler: Option<SamplerKind>,
     pub bsdf_sampling: Option<BsdfStrategy>,
     pub light_strategy: Option<LightStrategy>,
@@ -70,15 +72,15 @@ pub(crate) enum MaterialType {
 pub(crate) struct RawMaterial {
     #[serde(rename = "type")]
     pub kind: Spanned<MaterialType>,
-    pub albedo: Opt<[f32; 3]>,
+    pub albedo: Opt<[f64; 3]>,
     pub roughness: Opt<OneOrMany<2>>,
     pub alpha: Opt<OneOrMany<2>>,
-    pub eta: Opt<[f32; 3]>,
-    pub k: Opt<[f32; 3]>,
-    pub f0: Opt<[f32; 3]>,
+    pub eta: Opt<[f64; 3]>,
+    pub k: Opt<[f64; 3]>,
+    pub f0: Opt<[f64; 3]>,
     pub preset: Opt<ConductorPreset>,
-    pub ior: Opt<f32>,
-    pub radiance: Opt<[f32; 3]>,
+    pub ior: Opt<f64>,
+    pub radiance: Opt<[f64; 3]>,
 }
 
 /// Shape `type` strings.
@@ -99,8 +101,8 @@ pub(crate) struct RawShape {
     #[serde(rename = "type")]
     pub kind: Spanned<ShapeType>,
     pub material: Spanned<String>,
-    pub center: Opt<[f32; 3]>,
-    pub radius: Opt<f32>,
+    pub center: Opt<[f64; 3]>,
+    pub radius: Opt<f64>,
     pub subdivisions: Opt<u32>,
     pub smooth: Opt<bool>,
     pub segments: Opt<u32>,
@@ -112,8 +114,8 @@ pub(crate) struct RawShape {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawTransform {
-    pub translate: Opt<[f32; 3]>,
-    pub rotate: Opt<[f32; 3]>,
+    pub translate: Opt<[f64; 3]>,
+    pub rotate: Opt<[f64; 3]>,
     pub scale: Opt<OneOrMany<3>>,
 }
 
@@ -140,35 +142,37 @@ pub(crate) enum ProceduralPreset {
 pub(crate) struct RawEnvironment {
     #[serde(rename = "type")]
     pub kind: Spanned<EnvironmentType>,
-    pub radiance: Opt<[f32; 3]>,
+    pub radiance: Opt<[f64; 3]>,
     pub file: Opt<String>,
     pub preset: Opt<ProceduralPreset>,
     pub resolution: Opt<[u32; 2]>,
-    pub scale: Opt<f32>,
-    pub rotation: Opt<f32>,
+    pub scale: Opt<f64>,
+    pub rotation: Opt<f64>,
 }
 
-/// A number, or an array of exactly `N` numbers (`alpha = 0.1` or `alpha = [0.1, 0.4]`).
+/// A number, or an array of exactly `N` numbers (`alpha = 0.1` or `alpha = [0.1, 0.4]`),
+/// kept in `f64` as written so that validation can tell a value too large for `f32`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum OneOrMany<const N: usize> {
-    One(f32),
-    Many([f32; N]),
+    One(f64),
+    Many([f64; N]),
 }
 
 impl<const N: usize> OneOrMany<N> {
-    /// The numbers as written (one or `N`), for validation messages.
-    pub fn written(&self) -> &[f32] {
+    /// The numbers as written (one or `N`), for validation.
+    pub fn written(&self) -> &[f64] {
         match self {
             Self::One(x) => std::slice::from_ref(x),
             Self::Many(v) => v,
         }
     }
 
-    /// All `N` components (a single number is repeated).
+    /// All `N` components in `f32` (a single number is repeated); call after validating
+    /// [`Self::written`].
     pub fn components(self) -> [f32; N] {
         match self {
-            Self::One(x) => [x; N],
-            Self::Many(v) => v,
+            Self::One(x) => [x as f32; N],
+            Self::Many(v) => v.map(|x| x as f32),
         }
     }
 }
@@ -189,19 +193,19 @@ impl<'de, const N: usize> Visitor<'de> for OneOrManyVisitor<N> {
     }
 
     fn visit_f64<E: de::Error>(self, v: f64) -> Result<Self::Value, E> {
-        Ok(OneOrMany::One(v as f32))
+        Ok(OneOrMany::One(v))
     }
 
     fn visit_i64<E: de::Error>(self, v: i64) -> Result<Self::Value, E> {
-        Ok(OneOrMany::One(v as f32))
+        Ok(OneOrMany::One(v as f64))
     }
 
     fn visit_u64<E: de::Error>(self, v: u64) -> Result<Self::Value, E> {
-        Ok(OneOrMany::One(v as f32))
+        Ok(OneOrMany::One(v as f64))
     }
 
     fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
-        let mut out = [0.0; N];
+        let mut out = [0.0f64; N];
         for (i, slot) in out.iter_mut().enumerate() {
             *slot = seq.next_element()?.ok_or_else(|| de::Error::invalid_length(i, &self))?;
         }

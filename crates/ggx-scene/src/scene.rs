@@ -34,6 +34,9 @@ pub struct Scene {
     pub shape_count: usize,
     /// The scene file as given to the loader.
     pub source: PathBuf,
+    /// The other files the scene reads (meshes, environment map), resolved; with `source`,
+    /// what an output must never overwrite.
+    pub inputs: Vec<PathBuf>,
 }
 
 impl Scene {

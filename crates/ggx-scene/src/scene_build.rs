@@ -1,6 +1,7 @@
 //! Assembles a [`Scene`] from the parsed file: validates every section, tessellates shapes,
 //! collects area lights and derives the [`SceneFeatures`].
 
+use std::f32::consts::PI;
 use std::path::{Path, PathBuf};
 
 use crate::camera::Camera;
@@ -9,38 +10,69 @@ use crate::error::{ErrorKind, SceneError, Source};
 use crate::features::SceneFeatures;
 use crate::integrator::IntegratorSettings;
 use crate::lights::{AreaLight, AreaLights};
-use crate::material::Material;
+use crate::limits::{Limit, LimitError, Limits};
+use crate::material::{Material, luminance};
 use crate::material_build;
+use crate::memory::{BYTES_PER_TRIANGLE, map_bytes, triangle_bytes};
 use crate::mesh::TriangleMesh;
 use crate::raw::RawScene;
 use crate::scene::Scene;
-use crate::shape_build::add_shape;
+use crate::shape_build;
+use crate::shorten::{short, short_list};
 
 /// Validates `raw` (parsed from `src`) into a [`Scene`]; relative files resolve against
-/// `base_dir`.
-pub(crate) fn build(src: Source<'_>, raw: &RawScene, base_dir: &Path) -> Result<Scene, SceneError> {
+/// `base_dir`, and files, triangles and memory stay within `limits`.
+///
+/// Every shape is validated and its triangles counted before any is tessellated, so a scene
+/// over [`Limits::max_triangles`] or [`Limits::max_memory`] fails at the shape that crosses
+/// the limit without allocating its triangles.
+pub(crate) fn build(src: Source<'_>, raw: &RawScene, base_dir: &Path, limits: &Limits) -> Result<Scene, SceneError> {
     let camera = Camera::from_raw(src, &raw.camera)?;
     let integrator = IntegratorSettings::from_raw(src, raw.integrator.as_ref())?;
     let material_names: Vec<String> = raw.materials.keys().cloned().collect();
     let materials =
         raw.materials.iter().map(|(name, m)| material_build::build(src, name, m)).collect::<Result<Vec<_>, _>>()?;
-    let mut mesh = TriangleMesh::default();
-    let mut lights = Vec::new();
-    let mut used = vec![false; materials.len()];
+    let mut prepared = Vec::with_capacity(raw.shapes.len());
+    let mut triangles = 0u64;
     for (index, shape) in raw.shapes.iter().enumerate() {
         let name = shape.material.get_ref();
         let Some(material) = material_names.iter().position(|n| n == name) else {
-            let msg = format!("unknown material \"{name}\" (defined: {})", defined(&material_names));
+            let msg = format!("unknown material \"{}\" (defined: {})", short(name), defined(&material_names));
             let field = format!("shapes[{index}].material");
             return Err(src.error(shape.material.span(), &field, ErrorKind::UnknownMaterial, msg));
         };
+        let p = shape_build::prepare(src, index, shape, base_dir, limits)?;
+        triangles = triangles.saturating_add(p.triangles());
+        check_triangles(limits, index, p.triangles(), triangles)
+            .map_err(|e| src.error(shape.kind.span(), &format!("shapes[{index}]"), ErrorKind::Limit, e.to_string()))?;
+        prepared.push((p, material));
+    }
+    let mut mesh = TriangleMesh::default();
+    if mesh.triangles.try_reserve_exact(usize::try_from(triangles).unwrap_or(usize::MAX)).is_err() {
+        let msg = format!("cannot allocate memory for {triangles} triangles");
+        return Err(src.error(0..0, "shapes", ErrorKind::Limit, msg));
+    }
+    let mut lights = Vec::new();
+    let mut used = vec![false; materials.len()];
+    let mut power = 0.0f64;
+    for (index, (shape, (p, material))) in raw.shapes.iter().zip(prepared).enumerate() {
         used[material] = true;
         let first = mesh.triangles.len() as u32;
-        let area = add_shape(src, index, shape, material as u32, base_dir, &mut mesh)?;
+        let area = p.append(src, index, shape, material as u32, &mut mesh)?;
         if let Material::Emissive { radiance } = materials[material] {
+            let at = |kind, msg: String| src.error(shape.kind.span(), &format!("shapes[{index}]"), kind, msg);
             if area <= 0.0 || !area.is_finite() {
                 let msg = format!("emissive shape has degenerate area {area} (zero-area or overflowing light)");
-                return Err(src.error(shape.kind.span(), &format!("shapes[{index}]"), ErrorKind::Degenerate, msg));
+                return Err(at(ErrorKind::Degenerate, msg));
+            }
+            power += f64::from(PI) * f64::from(luminance(radiance)) * f64::from(area);
+            if power > f64::from(f32::MAX) {
+                let msg = format!(
+                    "the emitted power (pi * area * luminance of the radiance) of the lights up to this shape is \
+                     {power:.1e}, over f32's max {:.1e}: make the light smaller or dimmer",
+                    f32::MAX
+                );
+                return Err(at(ErrorKind::OutOfRange, msg));
             }
             lights.push(AreaLight {
                 shape: index as u32,
@@ -53,7 +85,15 @@ pub(crate) fn build(src: Source<'_>, raw: &RawScene, base_dir: &Path) -> Result<
         }
     }
     let lights = AreaLights::new(lights, &mut mesh);
-    let environment = raw.environment.as_ref().map(|e| environment::build(src, e, base_dir)).transpose()?;
+    let environment = match &raw.environment {
+        None => None,
+        Some(e) => {
+            let env = environment::build(src, e, base_dir, limits)?;
+            check_scene_memory(limits, triangles, &env)
+                .map_err(|m| src.error(e.kind.span(), "environment", ErrorKind::Limit, m.to_string()))?;
+            Some(env)
+        }
+    };
     let features = features(&materials, &used, &mesh, &lights, environment.as_ref(), raw.shapes.len());
     Ok(Scene {
         camera,
@@ -66,11 +106,36 @@ pub(crate) fn build(src: Source<'_>, raw: &RawScene, base_dir: &Path) -> Result<
         features,
         shape_count: raw.shapes.len(),
         source: PathBuf::from(src.file),
+        inputs: inputs(raw, base_dir),
     })
 }
 
+/// The mesh and map files `raw` reads, resolved against `base_dir`.
+fn inputs(raw: &RawScene, base_dir: &Path) -> Vec<PathBuf> {
+    let meshes = raw.shapes.iter().filter_map(|s| s.file.as_ref());
+    let map = raw.environment.as_ref().and_then(|e| e.file.as_ref());
+    meshes.chain(map).map(|f| base_dir.join(f.get_ref())).collect()
+}
+
+/// Checks the running triangle count `total` (shapes `0..=index`, `this` of them in shape
+/// `index`) and its memory against `limits`.
+fn check_triangles(limits: &Limits, index: usize, this: u64, total: u64) -> Result<(), LimitError> {
+    let shapes = if index == 0 { "shape 0".to_owned() } else { format!("shapes 0 to {index}") };
+    limits.check(Limit::Triangles, format!("the triangles of {shapes} (this one: {this})"), total)?;
+    let what = format!("{total} triangles of {shapes} (mesh, shading normals and BVH at {BYTES_PER_TRIANGLE} B each)");
+    limits.check(Limit::Memory, what, triangle_bytes(total))
+}
+
+/// Checks the memory of `triangles` triangles and the environment map of `env` together.
+fn check_scene_memory(limits: &Limits, triangles: u64, env: &Environment) -> Result<(), LimitError> {
+    let Environment::Map(map) = env else { return Ok(()) };
+    let (w, h) = (map.width, map.height);
+    let bytes = triangle_bytes(triangles).saturating_add(map_bytes(u64::from(w) * u64::from(h)));
+    limits.check(Limit::Memory, format!("{triangles} triangles and a {w}x{h} environment map"), bytes)
+}
+
 fn defined(names: &[String]) -> String {
-    if names.is_empty() { "none".to_owned() } else { names.join(", ") }
+    if names.is_empty() { "none".to_owned() } else { short_list(names) }
 }
 
 /// What the scene uses: materials count only when `used` by a shape.

@@ -82,8 +82,8 @@ fn wrong_type() {
 
 #[test]
 fn negative_integer() {
-    let text = format!("{CAMERA}\n[integrator]\nseed = -3\n");
-    check(&text, "-3", "integrator.seed", ErrorKind::Schema, "");
+    let text = format!("{CAMERA}\n[integrator]\nspp = -3\n");
+    check(&text, "-3", "integrator.spp", ErrorKind::Schema, "");
 }
 
 #[test]
@@ -150,7 +150,8 @@ fn infinite_component() {
 #[test]
 fn overflowing_number() {
     let text = format!("{CAMERA}up = [0, 1e300, 0]\n");
-    check(&text, "[0, 1e300", "camera.up", ErrorKind::NonFinite, "finite");
+    let msg = "is too large for f32 (max 3.4e38), got 1e300 (component 1)";
+    check(&text, "[0, 1e300", "camera.up", ErrorKind::OutOfRange, msg);
 }
 
 #[test]

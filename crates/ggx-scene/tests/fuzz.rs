@@ -1,11 +1,40 @@
-//! The parser never panics: random text and mutated scene files give `Ok` or a located `Err`.
+//! The parser never panics: random text and mutated scene files give `Ok` or a located,
+//! short `Err`, under the default limits and under small ones.
+//!
+//! Each property runs `GGX_FUZZ_CASES` cases (default [`DEFAULT_CASES`], about ten seconds in
+//! the dev profile); `cargo xtask fuzz` sets a long budget.
 
 use std::path::{Path, PathBuf};
 
-use ggx_scene::parse_scene;
+use ggx_scene::{Limits, parse_scene, parse_scene_with};
 use proptest::prelude::*;
 
 const FILE: &str = "fuzz.toml";
+
+/// Cases per property when `GGX_FUZZ_CASES` is not set.
+const DEFAULT_CASES: u32 = 4096;
+
+/// Longest error message accepted: user text is echoed in short form.
+const MAX_MESSAGE_BYTES: usize = 2048;
+
+/// Cases per property: `GGX_FUZZ_CASES`, else [`DEFAULT_CASES`].
+fn fuzz_cases() -> u32 {
+    match std::env::var("GGX_FUZZ_CASES") {
+        Ok(v) => v.trim().parse().unwrap_or_else(|_| panic!("GGX_FUZZ_CASES must be a number of cases, got {v:?}")),
+        Err(_) => DEFAULT_CASES,
+    }
+}
+
+/// Small limits that mutated scenes can cross: scene text, triangles, memory, map pixels.
+fn small_limits() -> Limits {
+    Limits {
+        max_scene_bytes: 4096,
+        max_mesh_bytes: 64 << 10,
+        max_map_pixels: 4096,
+        max_triangles: 20_000,
+        max_memory: 4 << 20,
+    }
+}
 
 fn scenes_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
@@ -120,6 +149,15 @@ const TOKENS: &[&str] = &[
     "true",
     "0x10",
     "é",
+    "file = \"/dev/zero\"",
+    "file = \".\"",
+    "file = \"assets\"",
+    "file = \"/dev/null\"",
+    "subdivisions = 7",
+    "seed = 4294967296",
+    "radiance = [1e21, 1, 1]",
+    "position = [0, 0, 1e20]",
+    "type = \"emissive\"",
 ];
 
 /// Values that numbers are replaced with: out of range, non-finite, huge, tiny, wrong type.
@@ -134,9 +172,18 @@ const VALUES: &[&str] = &[
     "2",
     "1.5",
     "1e40",
+    "1e39",
+    "-3.5e38",
+    "3.4e38",
+    "1e20",
     "1e-30",
+    "1e-50",
     "100000",
     "4294967296",
+    "4294967295",
+    "9223372036854775807",
+    "-9223372036854775808",
+    "7",
     "\"x\"",
     "[]",
     "[1, 2]",
@@ -150,6 +197,8 @@ enum Edit {
     Replace(usize, char),
     /// Replaces the n-th number literal with `VALUES[v]`.
     Number(usize, usize),
+    /// Inserts a run of `len` copies of a character: a long key, name, string or number.
+    Long(usize, usize, char),
 }
 
 fn edit() -> impl Strategy<Value = Edit> {
@@ -158,6 +207,8 @@ fn edit() -> impl Strategy<Value = Edit> {
         1 => (any::<usize>(), 0..TOKENS.len()).prop_map(|(at, t)| Edit::Insert(at, t)),
         1 => (any::<usize>(), any::<char>()).prop_map(|(at, c)| Edit::Replace(at, c)),
         3 => (any::<usize>(), 0..VALUES.len()).prop_map(|(n, v)| Edit::Number(n, v)),
+        1 => (any::<usize>(), 1usize..100_000, prop::sample::select(vec!['k', '9', 'é', ' ']))
+            .prop_map(|(at, len, c)| Edit::Long(at, len, c)),
     ]
 }
 
@@ -181,6 +232,10 @@ fn mutate(text: &str, edits: &[Edit]) -> String {
                     let (start, end) = numbers[n % numbers.len()];
                     chars.splice(start..end, VALUES[v].chars());
                 }
+            }
+            Edit::Long(at, len, c) => {
+                let at = (at % (chars.len() + 1)).min(chars.len());
+                chars.splice(at..at, std::iter::repeat_n(c, len));
             }
             Edit::Replace(at, c) => {
                 let len = chars.len();
@@ -215,20 +270,25 @@ fn number_literals(chars: &[char]) -> Vec<(usize, usize)> {
     out
 }
 
-/// Parses and checks that errors are located in `FILE`.
+/// Parses within the default limits and within [`small_limits`], and checks that errors
+/// are located in `FILE` and short.
 fn parse_ok_or_located(text: &str) -> Result<(), TestCaseError> {
-    if let Err(e) = parse_scene(text, FILE, &scenes_dir()) {
-        let shown = e.to_string();
-        prop_assert!(shown.starts_with(&format!("{FILE}:")), "{shown}");
-        let (line, column) = e.line_column().unwrap_or((0, 0));
-        prop_assert!(line >= 1 && column >= 1 && line <= text.lines().count().max(1) + 1, "{shown}");
+    for limits in [Limits::default(), small_limits()] {
+        if let Err(e) = parse_scene_with(text, FILE, &scenes_dir(), &limits) {
+            let shown = e.to_string();
+            let head = shown.chars().take(300).collect::<String>();
+            prop_assert!(shown.len() <= MAX_MESSAGE_BYTES, "{} bytes: {head}…", shown.len());
+            prop_assert!(shown.starts_with(&format!("{FILE}:")), "{shown}");
+            let (line, column) = e.line_column().unwrap_or((0, 0));
+            prop_assert!(line >= 1 && column >= 1 && line <= text.lines().count().max(1) + 1, "{shown}");
+        }
     }
     Ok(())
 }
 
 proptest! {
     #![proptest_config(ProptestConfig {
-        cases: 512,
+        cases: fuzz_cases(),
         rng_seed: proptest::test_runner::RngSeed::Fixed(0x6767_7873),
         failure_persistence: None,
         ..ProptestConfig::default()

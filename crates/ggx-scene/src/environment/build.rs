@@ -4,16 +4,26 @@ use std::path::Path;
 
 use glam::Vec3;
 
+use super::load::check_size;
+use super::map::TexelError;
 use super::{EnvMap, Environment, load_image, sky, studio};
 use crate::check::{Interval, span_of};
 use crate::error::{ErrorKind, SceneError, Source};
+use crate::limits::Limits;
+use crate::radiance::MAX_RADIANCE;
 use crate::raw::{EnvironmentType, ProceduralPreset, RawEnvironment};
 
 /// Largest procedural map width; the height limit is half of it.
 pub const MAX_PROCEDURAL_WIDTH: u32 = 4096;
 
-/// Validates `[environment]`; map files are resolved relative to `base_dir`.
-pub(crate) fn build(src: Source<'_>, raw: &RawEnvironment, base_dir: &Path) -> Result<Environment, SceneError> {
+/// Validates `[environment]`; map files are resolved relative to `base_dir` and read within
+/// `limits`. Radiance, after `scale`, must be at most [`MAX_RADIANCE`] per channel.
+pub(crate) fn build(
+    src: Source<'_>,
+    raw: &RawEnvironment,
+    base_dir: &Path,
+    limits: &Limits,
+) -> Result<Environment, SceneError> {
     let field = |key: &str| format!("environment.{key}");
     let (type_name, allowed): (_, &[&str]) = match raw.kind.get_ref() {
         EnvironmentType::Constant => ("constant", &["radiance"]),
@@ -35,21 +45,26 @@ pub(crate) fn build(src: Source<'_>, raw: &RawEnvironment, base_dir: &Path) -> R
     };
     let scale = src.number_or(raw.scale.as_ref(), 1.0, &field("scale"), Interval::above(0.0))?;
     let rotation = src.number_or(raw.rotation.as_ref(), 0.0, &field("rotation"), Interval::ANY)?;
-    let (width, height, texels, span) = match raw.kind.get_ref() {
+    let (width, height, texels, span, key) = match raw.kind.get_ref() {
         EnvironmentType::Constant => {
             let r = raw.radiance.as_ref().ok_or_else(|| missing("radiance"))?;
             let radiance = src.array(r, &field("radiance"), Interval::at_least(0.0))?;
+            if let Some(&c) = radiance.iter().find(|&&c| c > MAX_RADIANCE) {
+                let msg =
+                    format!("radiance {c:e} is over the largest radiance {MAX_RADIANCE:e} (paths would overflow f32)");
+                return Err(src.error(r.span(), &field("radiance"), ErrorKind::OutOfRange, msg));
+            }
             return Ok(Environment::Constant(Vec3::from(radiance)));
         }
         EnvironmentType::Map => {
             let file = raw.file.as_ref().ok_or_else(|| missing("file"))?;
             let path = base_dir.join(file.get_ref());
             let file_error = |msg: String| src.error(file.span(), &field("file"), ErrorKind::File, msg);
-            if !path.is_file() {
+            if !path.exists() {
                 return Err(file_error(format!("environment map not found: {}", path.display())));
             }
-            let (w, h, texels) = load_image(&path).map_err(file_error)?;
-            (w, h, texels, file.span())
+            let (w, h, texels) = load_image(&path, limits).map_err(file_error)?;
+            (w, h, texels, file.span(), "file")
         }
         EnvironmentType::Procedural => {
             let preset = raw.preset.as_ref().ok_or_else(|| missing("preset"))?;
@@ -65,15 +80,26 @@ pub(crate) fn build(src: Source<'_>, raw: &RawEnvironment, base_dir: &Path) -> R
                     [w, h]
                 }
             };
+            let msg = |e: String| src.error(preset.span(), &field("preset"), ErrorKind::OutOfRange, e);
+            check_size(u64::from(w), u64::from(h), 0, limits).map_err(msg)?;
             let texels = match preset.get_ref() {
                 ProceduralPreset::Sky => sky(w, h),
                 ProceduralPreset::Studio => studio(w, h),
             };
-            (w, h, texels, preset.span())
+            (w, h, texels, preset.span(), "preset")
         }
     };
-    EnvMap::new(width, height, texels, scale, rotation).map(Environment::Map).ok_or_else(|| {
-        let msg = "environment map has negative or non-finite texels";
-        src.error(span, &field("file"), ErrorKind::File, msg)
+    EnvMap::try_new(width, height, texels, scale, rotation).map(Environment::Map).map_err(|e| {
+        let msg = match &raw.file {
+            Some(f) => format!("{}: {e}", base_dir.join(f.get_ref()).display()),
+            None => format!("procedural map: {e}"),
+        };
+        match (&e, &raw.scale) {
+            // Blame `scale` when it, not the texel alone, takes the radiance over the bound.
+            (TexelError::TooBright { value, .. }, Some(s)) if *value <= MAX_RADIANCE => {
+                src.error(s.span(), &field("scale"), ErrorKind::OutOfRange, msg)
+            }
+            _ => src.error(span, &field(key), ErrorKind::File, msg),
+        }
     })
 }

@@ -1,49 +1,77 @@
-//! Reading `.hdr` (Radiance RGBE, via `image`) and `.exr` (OpenEXR, via `exr`) images as
-//! linear RGB texels.
+//! Reading environment map files, `.hdr` (Radiance RGBE, [`super::hdr_file`]) and `.exr`
+//! (OpenEXR, [`super::exr_file`]), as linear RGB texels. Each reader checks the size its
+//! file declares against [`Limits`] before it allocates pixels.
 
+use std::fs::File;
 use std::path::Path;
+
+use super::exr_file::read_exr;
+use super::hdr_file::read_hdr;
+use crate::limits::{Limit, Limits};
 
 /// Largest accepted map width or height.
 pub const MAX_MAP_SIZE: u32 = 16384;
 
+/// `(width, height, texels)`: row-major RGBA texels from the top row, `w = 1`.
+pub(crate) type Texels = (u32, u32, Vec<[f32; 4]>);
+
 /// Reads an `.hdr` or `.exr` file (chosen by extension) into `(width, height, texels)`,
 /// row-major from the top row, `w = 1`.
-pub fn load_image(path: &Path) -> Result<(u32, u32, Vec<[f32; 4]>), String> {
+///
+/// Only regular files are read (a directory, FIFO or device is refused). The size the file
+/// declares is checked before any pixel is allocated: each side in `1..=`[`MAX_MAP_SIZE`],
+/// `width * height` at most `limits.max_map_pixels`, and the texels, the sampling tables
+/// ([`crate::BYTES_PER_TEXEL`] per pixel) and the decoder's buffers at most
+/// `limits.max_memory`. Errors start with the path.
+pub fn load_image(path: &Path, limits: &Limits) -> Result<(u32, u32, Vec<[f32; 4]>), String> {
+    let shown = path.display();
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
-    let (w, h, texels) = match ext.as_deref() {
-        Some("hdr") => load_hdr(path)?,
-        Some("exr") => load_exr(path)?,
-        _ => return Err(format!("{}: unsupported environment map format (use .hdr or .exr)", path.display())),
+    let read: fn(File, &Limits) -> Result<Texels, String> = match ext.as_deref() {
+        Some("hdr") => read_hdr,
+        Some("exr") => read_exr,
+        _ => return Err(format!("{shown}: unsupported environment map format (use .hdr or .exr)")),
     };
-    if w == 0 || h == 0 || w > MAX_MAP_SIZE || h > MAX_MAP_SIZE {
-        return Err(format!("{}: size {w}x{h} is outside 1..={MAX_MAP_SIZE}", path.display()));
+    let file = open_regular(path).map_err(|e| format!("{shown}: cannot read environment map: {e}"))?;
+    let (w, h, texels) = read(file, limits).map_err(|e| format!("{shown}: {e}"))?;
+    if texels.len() as u64 != u64::from(w) * u64::from(h) {
+        return Err(format!("{shown}: decoded {} texels for a {w}x{h} map", texels.len()));
     }
     Ok((w, h, texels))
 }
 
-fn load_hdr(path: &Path) -> Result<(u32, u32, Vec<[f32; 4]>), String> {
-    let err = |e: image::ImageError| format!("{}: {e}", path.display());
-    let reader = image::ImageReader::open(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let img = reader.with_guessed_format().map_err(|e| format!("{}: {e}", path.display()))?.decode().map_err(err)?;
-    let rgb = img.to_rgb32f();
-    let texels = rgb.pixels().map(|p| [p[0], p[1], p[2], 1.0]).collect();
-    Ok((rgb.width(), rgb.height(), texels))
+/// Opens `path` if it is a regular file; a directory, FIFO (which could block forever),
+/// socket or device is refused before it is opened.
+fn open_regular(path: &Path) -> Result<File, String> {
+    let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
+    if meta.is_dir() {
+        return Err("is a directory".into());
+    }
+    if !meta.is_file() {
+        return Err("not a regular file (a FIFO, socket or device)".into());
+    }
+    File::open(path).map_err(|e| e.to_string())
 }
 
-fn load_exr(path: &Path) -> Result<(u32, u32, Vec<[f32; 4]>), String> {
-    use exr::prelude::*;
-    let image = read_first_rgba_layer_from_file(
-        path,
-        |size: Vec2<usize>, _: &RgbaChannels| (size.width(), vec![[0.0f32, 0.0, 0.0, 1.0]; size.area()]),
-        |(width, texels): &mut (usize, Vec<[f32; 4]>), pos: Vec2<usize>, (r, g, b, _a): (f32, f32, f32, f32)| {
-            texels[pos.y() * *width + pos.x()] = [r, g, b, 1.0];
-        },
-    )
-    .map_err(|e| format!("{}: {e}", path.display()))?;
-    let size = image.layer_data.size;
-    let (w, h) = (u32::try_from(size.width()), u32::try_from(size.height()));
-    match (w, h) {
-        (Ok(w), Ok(h)) => Ok((w, h, image.layer_data.channel_data.pixels.1)),
-        _ => Err(format!("{}: image too large", path.display())),
+/// Checks a declared map size before its pixels are allocated: each side in
+/// `1..=`[`MAX_MAP_SIZE`], `width * height` within `limits.max_map_pixels`, and
+/// [`crate::BYTES_PER_TEXEL`] per pixel plus `decoder_bytes` within `limits.max_memory`.
+/// Returns the size and the pixel count.
+pub(crate) fn check_size(
+    width: u64,
+    height: u64,
+    decoder_bytes: u64,
+    limits: &Limits,
+) -> Result<(u32, u32, usize), String> {
+    let max = u64::from(MAX_MAP_SIZE);
+    if !(1..=max).contains(&width) || !(1..=max).contains(&height) {
+        return Err(format!("size {width}x{height} is outside 1..={MAX_MAP_SIZE} per side"));
     }
+    let what = format!("environment map {width}x{height}");
+    let pixels = width * height;
+    limits.check(Limit::MapPixels, &what, pixels).map_err(|e| e.to_string())?;
+    let bytes = crate::map_bytes(pixels).saturating_add(decoder_bytes);
+    limits.check(Limit::Memory, what, bytes).map_err(|e| e.to_string())?;
+    let pixels = usize::try_from(pixels).map_err(|_| format!("size {width}x{height} does not fit in memory"))?;
+    // Both sides are at most MAX_MAP_SIZE, so they fit in u32.
+    Ok((width as u32, height as u32, pixels))
 }

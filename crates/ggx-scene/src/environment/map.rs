@@ -2,12 +2,13 @@
 //! sampling proportional to `luminance * sin(theta)`.
 
 use std::f32::consts::PI;
+use std::fmt;
 
 use glam::{Quat, Vec2, Vec3};
 
 use super::{direction_to_uv, uv_to_direction};
 use crate::distribution::Distribution2D;
-use crate::material::luminance;
+use crate::radiance::MAX_RADIANCE;
 
 /// An equirectangular environment map (see the module docs for the convention).
 ///
@@ -31,23 +32,90 @@ pub struct EnvMap {
     pub distribution: Distribution2D,
 }
 
-impl EnvMap {
-    /// Builds a map from row-major RGB texels; `None` when the size does not match or any
-    /// texel is negative or not finite.
-    pub fn new(width: u32, height: u32, texels: Vec<[f32; 4]>, scale: f32, rotation_degrees: f32) -> Option<Self> {
-        if texels.iter().any(|t| t[..3].iter().any(|c| !c.is_finite() || *c < 0.0)) {
-            return None;
+/// Why texels and a scale cannot make an [`EnvMap`].
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum TexelError {
+    /// A side is zero or the texel count is not `width * height`.
+    Size,
+    /// The scale is negative or not finite.
+    Scale(f32),
+    /// Texel `(col, row)` has a negative or non-finite channel.
+    Invalid {
+        /// Column.
+        col: u32,
+        /// Row.
+        row: u32,
+        /// The channel.
+        value: f32,
+    },
+    /// Texel `(col, row)` times the scale is over [`MAX_RADIANCE`] (computed in `f64`).
+    TooBright {
+        /// Column.
+        col: u32,
+        /// Row.
+        row: u32,
+        /// The brightest channel of the texel.
+        value: f32,
+        /// `value * scale`.
+        scaled: f64,
+    },
+}
+
+impl fmt::Display for TexelError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Self::Size => write!(f, "the texel count does not match the map size"),
+            Self::Scale(s) => write!(f, "scale {s} is negative or not finite"),
+            Self::Invalid { col, row, value } => {
+                write!(f, "texel ({col}, {row}) has a negative or non-finite channel ({value})")
+            }
+            Self::TooBright { col, row, value, scaled } => write!(
+                f,
+                "texel ({col}, {row}) has radiance {value:e}, which times the scale is {scaled:e}, over the \
+                 largest radiance {MAX_RADIANCE:e} (paths would overflow f32)"
+            ),
         }
+    }
+}
+
+impl EnvMap {
+    /// Builds a map from row-major RGB texels; `None` when the size does not match, any
+    /// texel is negative or not finite, or any texel times `scale` is over [`MAX_RADIANCE`].
+    pub fn new(width: u32, height: u32, texels: Vec<[f32; 4]>, scale: f32, rotation_degrees: f32) -> Option<Self> {
+        Self::try_new(width, height, texels, scale, rotation_degrees).ok()
+    }
+
+    /// [`Self::new`] that says which texel is wrong. Every scaled channel must be at most
+    /// [`MAX_RADIANCE`] (checked in `f64`); then every luminance, each row's integral and
+    /// the map's integral are at most that too, so the sampling distribution stays finite
+    /// in `f32`. The weights are computed in `f64` and rounded once.
+    pub(crate) fn try_new(
+        width: u32,
+        height: u32,
+        texels: Vec<[f32; 4]>,
+        scale: f32,
+        rotation_degrees: f32,
+    ) -> Result<Self, TexelError> {
+        let w = width as usize;
+        if w == 0 || height == 0 || Some(texels.len()) != w.checked_mul(height as usize) {
+            return Err(TexelError::Size);
+        }
+        if !scale.is_finite() || scale < 0.0 {
+            return Err(TexelError::Scale(scale));
+        }
+        check_texels(width, &texels, scale)?;
         let weights: Vec<f32> = texels
             .iter()
             .enumerate()
             .map(|(i, t)| {
-                let sin_theta = (PI * ((i / width.max(1) as usize) as f32 + 0.5) / height as f32).sin();
-                luminance(Vec3::new(t[0], t[1], t[2])) * sin_theta
+                let sin_theta = (std::f64::consts::PI * ((i / w) as f64 + 0.5) / f64::from(height)).sin();
+                let [r, g, b] = [t[0], t[1], t[2]].map(f64::from);
+                let luminance = 0.2126 * r + 0.7152 * g + 0.0722 * b;
+                (luminance * sin_theta).min(f64::from(f32::MAX)) as f32
             })
             .collect();
-        let distribution = Distribution2D::new(width, height, &weights)?;
-        Some(Self { width, height, texels, scale, rotation: rotation_degrees.to_radians(), distribution })
+        let distribution = Distribution2D::new(width, height, &weights).ok_or(TexelError::Size)?;
+        Ok(Self { width, height, texels, scale, rotation: rotation_degrees.to_radians(), distribution })
     }
 
     fn to_map(&self, world: Vec3) -> Vec3 {
@@ -103,4 +171,22 @@ impl EnvMap {
         let sin_theta = (1.0 - d.y * d.y).max(0.0).sqrt();
         self.solid_angle_pdf(col, row, sin_theta)
     }
+}
+
+/// Checks that every texel is finite and non-negative and that its brightest channel times
+/// `scale` is at most [`MAX_RADIANCE`], in `f64` so that the product itself cannot overflow.
+fn check_texels(width: u32, texels: &[[f32; 4]], scale: f32) -> Result<(), TexelError> {
+    let w = width as usize;
+    for (i, t) in texels.iter().enumerate() {
+        let (col, row) = ((i % w) as u32, (i / w) as u32);
+        if let Some(&value) = t[..3].iter().find(|c| !c.is_finite() || **c < 0.0) {
+            return Err(TexelError::Invalid { col, row, value });
+        }
+        let value = t[0].max(t[1]).max(t[2]);
+        let scaled = f64::from(value) * f64::from(scale);
+        if scaled > f64::from(MAX_RADIANCE) {
+            return Err(TexelError::TooBright { col, row, value, scaled });
+        }
+    }
+    Ok(())
 }

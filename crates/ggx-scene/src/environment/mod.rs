@@ -6,6 +6,8 @@
 //! (v = 0, +y), column 0 starts at +x and u grows towards +z.
 
 mod build;
+mod exr_file;
+mod hdr_file;
 mod load;
 mod map;
 mod procedural;

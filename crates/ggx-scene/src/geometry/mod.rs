@@ -6,7 +6,7 @@ mod sphere;
 mod transform;
 
 pub(crate) use obj::load_obj;
-pub use obj::parse_obj;
+pub use obj::{parse_obj, parse_obj_with_limits};
 pub use primitives::{cube, disk, rectangle};
 pub use sphere::icosphere;
 pub(crate) use transform::build_transform;

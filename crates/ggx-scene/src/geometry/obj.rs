@@ -6,11 +6,20 @@ use std::path::Path;
 use glam::Vec3;
 
 use super::Geometry;
+use crate::limits::{Limit, Limits, read_regular_file};
 
 /// Parses OBJ text into one triangle mesh. Faces are fan-triangulated; vertex normals are
 /// kept when every vertex has one. Material libraries are ignored. Errors on indices out of
-/// range, non-finite positions and meshes without triangles.
+/// range, non-finite positions and meshes without triangles, and on more triangles than
+/// [`Limits::default`] allows.
 pub fn parse_obj(text: &str) -> Result<Geometry, String> {
+    parse_obj_with_limits(text, &Limits::default())
+}
+
+/// [`parse_obj`] that refuses meshes with more than `limits.max_triangles` triangles, counted
+/// from the face lines before anything is built.
+pub fn parse_obj_with_limits(text: &str, limits: &Limits) -> Result<Geometry, String> {
+    limits.check(Limit::Triangles, "mesh", count_triangles(text)).map_err(|e| e.to_string())?;
     let options = tobj::LoadOptions { single_index: true, triangulate: true, ignore_points: true, ignore_lines: true };
     let (models, _) = tobj::load_obj_buf(&mut Cursor::new(text), &options, |_| Err(tobj::LoadError::OpenFileFailed))
         .map_err(|e| format!("invalid OBJ: {e}"))?;
@@ -18,6 +27,7 @@ pub fn parse_obj(text: &str) -> Result<Geometry, String> {
     for model in &models {
         let m = &model.mesh;
         let base = g.positions.len();
+        let offset = u32::try_from(base).map_err(|_| "more than 2^32 vertices".to_string())?;
         let count = m.positions.len() / 3;
         let vertices = m.positions.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2]));
         g.positions.extend(vertices);
@@ -35,7 +45,9 @@ pub fn parse_obj(text: &str) -> Result<Geometry, String> {
             if let Some(&i) = t.iter().find(|&&i| i as usize >= count) {
                 return Err(format!("face index {} out of range (1..={count})", i as u64 + 1));
             }
-            g.indices.push([t[0], t[1], t[2]].map(|i| i + base as u32));
+            let shifted = [t[0], t[1], t[2]].map(|i| i.checked_add(offset));
+            let [Some(a), Some(b), Some(c)] = shifted else { return Err("more than 2^32 vertices".into()) };
+            g.indices.push([a, b, c]);
         }
     }
     if g.indices.is_empty() {
@@ -44,10 +56,23 @@ pub fn parse_obj(text: &str) -> Result<Geometry, String> {
     Ok(g)
 }
 
-/// Reads and parses an OBJ file.
-pub(crate) fn load_obj(path: &Path) -> Result<Geometry, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-    parse_obj(&text).map_err(|e| format!("{}: {e}", path.display()))
+/// Triangles that fan triangulation makes of the face (`f`) lines of `text`: `n - 2` per
+/// face of `n` vertices.
+fn count_triangles(text: &str) -> u64 {
+    text.lines()
+        .filter_map(|line| line.trim_start().strip_prefix('f'))
+        .filter(|rest| rest.starts_with(char::is_whitespace))
+        .map(|rest| (rest.split_whitespace().count() as u64).saturating_sub(2))
+        .sum()
+}
+
+/// Reads and parses the OBJ file at `path`: a regular file of at most
+/// `limits.max_mesh_bytes` and `limits.max_triangles` triangles. Errors name the path.
+pub(crate) fn load_obj(path: &Path, limits: &Limits) -> Result<Geometry, String> {
+    let bytes = read_regular_file(path, "mesh", Limit::MeshBytes, limits)?;
+    let text = std::str::from_utf8(&bytes)
+        .map_err(|e| format!("{}: cannot read mesh: not UTF-8 text ({e})", path.display()))?;
+    parse_obj_with_limits(text, limits).map_err(|e| format!("{}: {e}", path.display()))
 }
 
 #[cfg(test)]
@@ -67,5 +92,14 @@ mod tests {
         assert!(parse_obj("").unwrap_err().contains("no triangles"));
         assert!(parse_obj("v 0 0 0\nf 1 2 3\n").is_err());
         assert!(parse_obj("v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap_err().contains("non-finite"));
+    }
+
+    #[test]
+    fn triangles_are_counted_before_the_mesh_is_built() {
+        let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n  f\t1 2 3\nfoo 1 2 3\nf 1 2\n";
+        assert_eq!(count_triangles(text), 3);
+        let limits = Limits { max_triangles: 2, ..Limits::default() };
+        let msg = parse_obj_with_limits(text, &limits).unwrap_err();
+        assert!(msg.contains("needs 3, over the limit of 2") && msg.contains("--max-triangles"), "{msg}");
     }
 }
