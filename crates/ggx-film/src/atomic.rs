@@ -1,9 +1,19 @@
 //! Atomic file replacement: write a temporary file next to the target, then rename it over.
+//!
+//! What replacing a file keeps and refuses:
+//! * A symbolic link is followed: the link stays, the file it points to (through any chain
+//!   of links) is replaced, in that file's directory.
+//! * The replaced file's permission bits (and, where the process may set them, owner and
+//!   group) are given to the new file.
+//! * Anything but a regular file (a directory, FIFO, socket or device) is refused.
+//! * Temporary files being written are registered, so that a signal handler that must exit
+//!   at once can remove them ([`remove_pending_temp_files`]).
 
-use std::ffi::OsString;
+use std::ffi::{OsStr, OsString};
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufWriter, ErrorKind};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use crate::OutputError;
@@ -11,42 +21,125 @@ use crate::OutputError;
 /// Distinguishes temporary files of concurrent writes within one process.
 static COUNTER: AtomicU64 = AtomicU64::new(0);
 
+/// Temporary files created and not yet renamed or removed.
+static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
 /// Attempts at finding an unused temporary name before giving up.
 const MAX_ATTEMPTS: u32 = 64;
 
-/// Runs `write` on a new temporary file `.<name>.tmp-<pid>-<counter>` in `path`'s directory,
-/// flushes and syncs it, then renames it over `path`. On any error (or a panic in `write`)
-/// the temporary file is removed and `path` is untouched.
+/// Most symbolic links followed when resolving an output path (Linux's own limit).
+const MAX_LINKS: u32 = 40;
+
+/// Runs `write` on a new temporary file `.<name>.tmp-<pid>-<counter>` in the directory of the
+/// file `path` names (after following symbolic links), flushes and syncs it, gives it the
+/// replaced file's mode and owner, then renames it over that file. On any error (or a panic
+/// in `write`) the temporary file is removed and the target is untouched.
 pub(crate) fn write_atomically<F>(path: &Path, write: F) -> Result<(), OutputError>
 where
     F: FnOnce(&mut BufWriter<File>) -> Result<(), OutputError>,
 {
     let io_error = |action: String, source: io::Error| OutputError::Io { path: path.to_owned(), action, source };
-    let Some(name) = path.file_name() else {
-        return Err(io_error("not a file path".into(), io::Error::from(ErrorKind::InvalidInput)));
-    };
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
+    let target = resolve_target(path).map_err(|(action, e)| io_error(action, e))?;
+    let existing = existing_file(&target).map_err(|(action, e)| io_error(action, e))?;
+    let (dir, name) = split(&target).map_err(|(action, e)| io_error(action, e))?;
     let (file, temp) = create_temp(dir, name)
         .map_err(|e| io_error(format!("cannot create a temporary file in {}", dir.display()), e))?;
 
-    let guard = RemoveOnDrop(Some(temp));
+    let guard = Pending::register(temp);
     let mut writer = BufWriter::new(file);
     write(&mut writer)?;
     let file = writer.into_inner().map_err(|e| io_error("cannot write the image".into(), e.into_error()))?;
+    if let Some(meta) = &existing {
+        keep_mode_and_owner(&file, meta).map_err(|e| io_error("cannot give it the replaced file's mode".into(), e))?;
+    }
     file.sync_all().map_err(|e| io_error("cannot flush the image to disk".into(), e))?;
     drop(file);
-    let temp = guard.0.as_deref().unwrap_or(path);
-    fs::rename(temp, path).map_err(|e| io_error(format!("cannot rename {} over it", temp.display()), e))?;
-    guard.disarm();
+    fs::rename(guard.path(), &target)
+        .map_err(|e| io_error(format!("cannot rename {} over {}", guard.path().display(), target.display()), e))?;
+    guard.renamed();
     sync_dir(dir);
     Ok(())
 }
 
+/// Checks, before any work is done, that [`write_atomically`] can create its temporary file
+/// next to the file `path` names and replace that file: creates the temporary file and
+/// removes it again.
+pub(crate) fn check_replaceable(path: &Path) -> Result<(), OutputError> {
+    let io_error = |action: String, source: io::Error| OutputError::Io { path: path.to_owned(), action, source };
+    let target = resolve_target(path).map_err(|(action, e)| io_error(action, e))?;
+    existing_file(&target).map_err(|(action, e)| io_error(action, e))?;
+    let (dir, name) = split(&target).map_err(|(action, e)| io_error(action, e))?;
+    let (file, temp) =
+        create_temp(dir, name).map_err(|e| io_error(format!("cannot create a file in {}", dir.display()), e))?;
+    drop(file);
+    fs::remove_file(&temp).map_err(|e| io_error(format!("cannot remove the test file {}", temp.display()), e))
+}
+
+/// Removes every temporary image file this process is writing. For a signal handler that
+/// exits at once: the targets stay untouched and no `.NAME.tmp-PID-N` file is left behind.
+pub fn remove_pending_temp_files() {
+    for temp in lock_pending().iter() {
+        let _ = fs::remove_file(temp);
+    }
+}
+
+/// An error with the action that failed.
+type Failed = (String, io::Error);
+
+/// The file `path` names: `path` itself, or the end of its chain of symbolic links.
+fn resolve_target(path: &Path) -> Result<PathBuf, Failed> {
+    let mut current = path.to_owned();
+    for _ in 0..MAX_LINKS {
+        match fs::symlink_metadata(&current) {
+            Ok(meta) if meta.file_type().is_symlink() => {
+                let link = fs::read_link(&current)
+                    .map_err(|e| (format!("cannot read the symbolic link {}", current.display()), e))?;
+                current = match current.parent() {
+                    Some(dir) if link.is_relative() => dir.join(link),
+                    _ => link,
+                };
+            }
+            // Not a link, or nothing there yet: this is the file to write.
+            _ => return Ok(current),
+        }
+    }
+    let e = io::Error::other(format!("more than {MAX_LINKS} levels of symbolic links"));
+    Err(("cannot follow the symbolic link".into(), e))
+}
+
+/// The metadata of the file to replace, `None` when there is none; an error when something
+/// other than a regular file stands there.
+fn existing_file(target: &Path) -> Result<Option<fs::Metadata>, Failed> {
+    match fs::metadata(target) {
+        Ok(meta) if meta.is_file() => Ok(Some(meta)),
+        Ok(meta) => {
+            let what = if meta.is_dir() { "a directory" } else { "not a regular file (a FIFO, socket or device)" };
+            let action = format!("refusing to replace {}", target.display());
+            Err((action, io::Error::other(format!("it is {what}"))))
+        }
+        Err(e) if e.kind() == ErrorKind::NotFound => Ok(None),
+        Err(e) => Err((format!("cannot inspect {}", target.display()), e)),
+    }
+}
+
+/// Directory (`.` for a bare name) and file name of `target`.
+fn split(target: &Path) -> Result<(&Path, &OsStr), Failed> {
+    let Some(name) = target.file_name() else {
+        return Err(("not a file path".into(), io::Error::from(ErrorKind::InvalidInput)));
+    };
+    let dir = match target.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    if !dir.is_dir() {
+        let e = io::Error::from(ErrorKind::NotFound);
+        return Err((format!("output directory {} does not exist", dir.display()), e));
+    }
+    Ok((dir, name))
+}
+
 /// Creates `dir/.<name>.tmp-<pid>-<counter>` exclusively, skipping names that already exist.
-fn create_temp(dir: &Path, name: &std::ffi::OsStr) -> io::Result<(File, PathBuf)> {
+fn create_temp(dir: &Path, name: &OsStr) -> io::Result<(File, PathBuf)> {
     let mut last = io::Error::from(ErrorKind::AlreadyExists);
     for _ in 0..MAX_ATTEMPTS {
         let mut temp_name = OsString::from(".");
@@ -62,6 +155,22 @@ fn create_temp(dir: &Path, name: &std::ffi::OsStr) -> io::Result<(File, PathBuf)
     Err(last)
 }
 
+/// Gives `file` the permission bits of `replaced` and, where allowed, its owner and group.
+fn keep_mode_and_owner(file: &File, replaced: &fs::Metadata) -> io::Result<()> {
+    file.set_permissions(replaced.permissions())?;
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt as _;
+        let mine = file.metadata()?;
+        if (mine.uid(), mine.gid()) != (replaced.uid(), replaced.gid()) {
+            // Only root (or the owner, for a group it belongs to) may do this: best effort, as
+            // `cp -p` does; the mode is kept either way.
+            let _ = std::os::unix::fs::fchown(file, Some(replaced.uid()), Some(replaced.gid()));
+        }
+    }
+    Ok(())
+}
+
 /// Makes the rename durable on Unix (best effort; directories cannot be opened on Windows).
 fn sync_dir(dir: &Path) {
     #[cfg(unix)]
@@ -72,19 +181,80 @@ fn sync_dir(dir: &Path) {
     let _ = dir;
 }
 
-/// Deletes the temporary file when dropped, unless disarmed after the rename.
-struct RemoveOnDrop(Option<PathBuf>);
+/// A registered temporary file: deleted and unregistered when dropped, unless renamed.
+struct Pending {
+    temp: PathBuf,
+    renamed: bool,
+}
 
-impl RemoveOnDrop {
-    fn disarm(mut self) {
-        self.0 = None;
+impl Pending {
+    fn register(temp: PathBuf) -> Self {
+        lock_pending().push(temp.clone());
+        Self { temp, renamed: false }
+    }
+
+    fn path(&self) -> &Path {
+        &self.temp
+    }
+
+    /// The file now has the target's name: unregister it without deleting.
+    fn renamed(mut self) {
+        self.renamed = true;
     }
 }
 
-impl Drop for RemoveOnDrop {
+impl Drop for Pending {
     fn drop(&mut self) {
-        if let Some(p) = self.0.take() {
-            let _ = fs::remove_file(p);
+        if !self.renamed {
+            let _ = fs::remove_file(&self.temp);
         }
+        lock_pending().retain(|p| p != &self.temp);
+    }
+}
+
+/// The registry of temporary files; a panic elsewhere never makes it unusable.
+fn lock_pending() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    PENDING.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scratch(name: &str) -> PathBuf {
+        let dir = std::env::temp_dir().join(format!("ggx-film-atomic-{}-{name}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    #[test]
+    fn pending_temp_files_are_removed_on_request() {
+        let dir = scratch("pending");
+        let (file, temp) = create_temp(&dir, OsStr::new("x.png")).unwrap();
+        drop(file);
+        let guard = Pending::register(temp.clone());
+        assert!(temp.exists());
+        remove_pending_temp_files();
+        assert!(!temp.exists());
+        drop(guard);
+        assert!(lock_pending().iter().all(|p| p != &temp));
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn link_chains_end_somewhere() {
+        let dir = scratch("links");
+        #[cfg(unix)]
+        {
+            std::os::unix::fs::symlink("b", dir.join("a")).unwrap();
+            std::os::unix::fs::symlink("sub/c", dir.join("b")).unwrap();
+            assert_eq!(resolve_target(&dir.join("a")).unwrap(), dir.join("sub/c"));
+            std::os::unix::fs::symlink("loop", dir.join("loop")).unwrap();
+            let (action, e) = resolve_target(&dir.join("loop")).unwrap_err();
+            assert!(action.contains("symbolic link") && e.to_string().contains("40 levels"), "{action}: {e}");
+        }
+        assert_eq!(resolve_target(&dir.join("none.png")).unwrap(), dir.join("none.png"));
+        fs::remove_dir_all(&dir).unwrap();
     }
 }

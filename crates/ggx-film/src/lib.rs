@@ -7,7 +7,10 @@
 //!   is accepted: NaN and negative values become black, `+inf` becomes full intensity.
 //! * [`write_image`]: linear `f32` OpenEXR (`.exr`) or tone-mapped sRGB PNG (`.png`), written
 //!   to a temporary file in the target directory and renamed over the target, so a crash
-//!   never leaves a half-written image. [`read_exr`] reads an EXR back.
+//!   never leaves a half-written image; links are followed, the replaced file's mode kept.
+//!   [`check_output`] proves before a render that the write can happen;
+//!   [`remove_pending_temp_files`] cleans up for a signal handler that exits at once.
+//!   [`read_exr`] reads an EXR back.
 //! * [`compare`]: RMSE, relative MSE and relative-error statistics between two images, for
 //!   tests and the cross-backend diff tool.
 //!
@@ -27,12 +30,13 @@ mod png_io;
 mod srgb;
 mod tonemap;
 
+pub use atomic::remove_pending_temp_files;
 pub use display::{OutputOptions, tonemap_to_srgb8};
 pub use error::{FilmError, OutputError, ParseToneMapError};
 pub use exr_io::read_exr;
 pub use film::Film;
 pub use metrics::{ImageMetrics, REL_EPSILON, channel_rel_sq, compare};
-pub use output::{SUPPORTED_EXTENSIONS, write_image};
+pub use output::{SUPPORTED_EXTENSIONS, check_output, write_image};
 pub use srgb::srgb_encode;
 pub use tonemap::ToneMap;
 

@@ -4,7 +4,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
-use crate::atomic::write_atomically;
+use crate::atomic::{check_replaceable, write_atomically};
 use crate::film::pixel_count;
 use crate::{OutputError, OutputOptions, exr_io, png_io};
 
@@ -19,15 +19,17 @@ enum Format {
 }
 
 /// Writes `pixels` (`width x height`, linear RGB, row-major, top row first) to `path`:
-/// `.exr` = linear `f32` RGB (exposure and tone map NOT applied), `.png` = tone-mapped 8-bit
-/// sRGB. Chosen by extension (case-insensitive); other extensions are an error naming the
+/// `.exr` = linear `f32` RGB scaled by the exposure `2^stops` (no tone map; values the
+/// scale takes past `f32::MAX` saturate there), `.png` = exposed, tone-mapped 8-bit sRGB. Chosen by extension (case-insensitive); other extensions are an error naming the
 /// path and the supported list.
 ///
 /// Atomic: the image goes to a temporary file in the same directory
 /// (`.<name>.tmp-<pid>-<counter>`), which is then renamed over `path`, so a crash never
 /// leaves a half-written image and an existing file is replaced only on success; the
-/// temporary file is removed on error. Errors name the path and the cause (unsupported
-/// extension, wrong pixel count, missing directory, permission denied, ...).
+/// temporary file is removed on error. A symbolic link is followed (the file it points to is
+/// replaced, the link stays); the replaced file's mode (and owner, where allowed) is kept;
+/// a directory, FIFO or device at `path` is refused. Errors name the path and the cause
+/// (unsupported extension, wrong pixel count, missing directory, permission denied, ...).
 pub fn write_image(
     path: &Path,
     width: u32,
@@ -51,9 +53,38 @@ pub fn write_image(
     }
     write_atomically(path, |out| match format {
         // Both fit in usize: their product does.
-        Format::Exr => exr_io::write_exr(out, path, width as usize, height as usize, pixels),
+        Format::Exr => {
+            let scale = options.exposure_scale();
+            if scale == 1.0 {
+                exr_io::write_exr(out, path, width as usize, height as usize, pixels)
+            } else {
+                let exposed: Vec<Vec3> = pixels.iter().map(|&p| expose(p, scale)).collect();
+                exr_io::write_exr(out, path, width as usize, height as usize, &exposed)
+            }
+        }
         Format::Png => png_io::write_png(out, path, width, height, pixels, options),
     })
+}
+
+/// Checks, before a render starts, that [`write_image`] will be able to write `path`: a
+/// supported extension, an existing directory in which a file can be created (the check
+/// creates and removes one), and nothing but a regular file to replace. Symbolic links are
+/// followed as [`write_image`] follows them.
+pub fn check_output(path: &Path) -> Result<(), OutputError> {
+    format_of(path)?;
+    check_replaceable(path)
+}
+
+/// `p * scale` in f64, finite values saturated to `±f32::MAX` (NaN and inf stay as they are).
+fn expose(p: Vec3, scale: f64) -> Vec3 {
+    let one = |c: f32| {
+        if !c.is_finite() {
+            return c;
+        }
+        let v = f64::from(c) * scale;
+        if v.is_nan() { 0.0 } else { v.clamp(-f64::from(f32::MAX), f64::from(f32::MAX)) as f32 }
+    };
+    Vec3::new(one(p.x), one(p.y), one(p.z))
 }
 
 /// The format for `path`'s extension, or [`OutputError::UnsupportedFormat`].
@@ -69,6 +100,14 @@ fn format_of(path: &Path) -> Result<Format, OutputError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn exposure_scales_and_saturates() {
+        assert_eq!(expose(Vec3::new(1.0, -2.0, 0.25), 4.0), Vec3::new(4.0, -8.0, 1.0));
+        assert_eq!(expose(Vec3::new(1e30, -1e30, 0.0), 1e20), Vec3::new(f32::MAX, -f32::MAX, 0.0));
+        let odd = expose(Vec3::new(f32::NAN, f32::INFINITY, 1.0), 0.0);
+        assert!(odd.x.is_nan() && odd.y == f32::INFINITY && odd.z == 0.0);
+    }
 
     #[test]
     fn extensions_are_case_insensitive() {

@@ -32,8 +32,8 @@ fn exr_round_trip_is_bit_exact() {
         Vec3::new(1.0 / 3.0, 7.0e-39, 0.5),
     ];
     let path = dir.path().join("round.EXR");
-    // Exposure and tone map must not touch EXR data.
-    let opts = OutputOptions { exposure: 5.0, tonemap: ToneMap::Reinhard };
+    // The tone map never touches EXR data, and exposure 0 is exact.
+    let opts = OutputOptions { exposure: 0.0, tonemap: ToneMap::Reinhard };
     write_image(&path, 2, 3, &pixels, &opts).unwrap();
     let (w, h, back) = read_exr(&path).unwrap();
     assert_eq!((w, h), (2, 3));
@@ -128,7 +128,7 @@ fn missing_directory_is_an_error_naming_the_path() {
     }
     let msg = err.to_string();
     assert!(msg.starts_with(&path.display().to_string()), "{msg}");
-    assert!(msg.contains("cannot create a temporary file in"), "{msg}");
+    assert!(msg.contains("output directory") && msg.contains("does not exist"), "{msg}");
     assert!(dir.entries().is_empty(), "nothing may be left behind: {:?}", dir.entries());
 }
 
@@ -174,4 +174,60 @@ fn read_exr_errors_name_the_path() {
     std::fs::write(&garbage, b"not an exr file at all").unwrap();
     let err = read_exr(&garbage).unwrap_err();
     assert!(err.to_string().starts_with(&garbage.display().to_string()), "{err}");
+}
+
+#[test]
+fn exr_is_scaled_by_the_exposure() {
+    let dir = Scratch::new("exr-exposure");
+    let pixels = [Vec3::new(0.1, 1.0, 3e38), Vec3::new(-0.5, 0.0, f32::INFINITY)];
+    let path = dir.path().join("e.exr");
+    write_image(&path, 2, 1, &pixels, &OutputOptions { exposure: 2.0, tonemap: ToneMap::Aces }).unwrap();
+    let (_, _, back) = read_exr(&path).unwrap();
+    // x4 is exact in binary; 3e38 * 4 saturates at f32::MAX instead of becoming inf.
+    assert_eq!(bits(&back), bits(&[Vec3::new(0.4, 4.0, f32::MAX), Vec3::new(-2.0, 0.0, f32::INFINITY)]));
+}
+
+#[cfg(unix)]
+#[test]
+fn a_symlink_is_followed_and_the_mode_is_kept() {
+    use std::os::unix::fs::PermissionsExt as _;
+    let dir = Scratch::new("symlink");
+    let real = dir.path().join("real.png");
+    std::fs::write(&real, b"old").unwrap();
+    std::fs::set_permissions(&real, std::fs::Permissions::from_mode(0o600)).unwrap();
+    let link = dir.path().join("link.png");
+    std::os::unix::fs::symlink("real.png", &link).unwrap();
+    write_image(&link, 1, 1, &[Vec3::ONE], &clamp_opts()).unwrap();
+    assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink(), "the link stays a link");
+    assert_eq!(decode_png(&real).get_pixel(0, 0).0, [255, 255, 255]);
+    assert_eq!(std::fs::metadata(&real).unwrap().permissions().mode() & 0o777, 0o600);
+    assert_eq!(dir.entries(), ["link.png", "real.png"]);
+}
+
+#[cfg(unix)]
+#[test]
+fn only_regular_files_are_replaced() {
+    let dir = Scratch::new("not-regular");
+    let sub = dir.path().join("d.png");
+    std::fs::create_dir(&sub).unwrap();
+    let msg = write_image(&sub, 1, 1, &[Vec3::ONE], &clamp_opts()).unwrap_err().to_string();
+    assert!(msg.contains("refusing to replace") && msg.contains("a directory"), "{msg}");
+    let msg = ggx_film::check_output(&sub).unwrap_err().to_string();
+    assert!(msg.contains("a directory"), "{msg}");
+    assert_eq!(dir.entries(), ["d.png"]);
+}
+
+#[test]
+fn check_output_finds_unwritable_places_before_any_work() {
+    let dir = Scratch::new("check-output");
+    ggx_film::check_output(&dir.path().join("ok.exr")).unwrap();
+    assert_eq!(dir.entries(), Vec::<String>::new(), "the probe file is removed");
+    let msg = ggx_film::check_output(&dir.path().join("no/such/x.png")).unwrap_err().to_string();
+    assert!(msg.contains("does not exist"), "{msg}");
+    let long = dir.path().join(format!("{}.png", "n".repeat(300)));
+    let msg = ggx_film::check_output(&long).unwrap_err().to_string();
+    assert!(msg.contains("name too long"), "{msg}");
+    let msg = ggx_film::check_output(std::path::Path::new("/proc/x.png")).unwrap_err().to_string();
+    assert!(msg.contains("cannot create a file in /proc"), "{msg}");
+    assert!(ggx_film::check_output(&dir.path().join("x.jpg")).is_err());
 }
