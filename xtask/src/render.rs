@@ -120,7 +120,7 @@ pub fn render_with(
     let options = RenderOptions { specialize, ..RenderOptions::default() };
     let control = RenderControl::default();
     match backend {
-        Backend::Cpu => Ok(Renderer::new(scene, accel).render(&options, &control)),
+        Backend::Cpu => Renderer::new(scene, accel).render(&options, &control).map_err(|e| e.to_string()),
         Backend::Wgpu => {
             let ctx = gpu.ok_or("the wgpu backend needs an adapter")?;
             WgpuRenderer::new(scene, ctx).and_then(|r| r.render(&options, &control)).map_err(|e| e.to_string())

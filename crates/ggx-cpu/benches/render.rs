@@ -29,7 +29,9 @@ fn throughput(c: &mut Criterion) {
                 }
                 let id = format!("{name}/{accel:?}/{}", if specialize { "specialized" } else { "generic" });
                 let options = RenderOptions { threads: 0, specialize };
-                g.bench_function(id, |b| b.iter(|| renderer.render(&options, &RenderControl::default()).spp));
+                g.bench_function(id, |b| {
+                    b.iter(|| renderer.render(&options, &RenderControl::default()).map(|r| r.spp).ok())
+                });
             }
         }
     }

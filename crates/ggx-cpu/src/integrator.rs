@@ -7,11 +7,11 @@
 //! kernel with that code compiled out. Every variant draws the same sample dimensions in
 //! the same order, so a specialized kernel returns bit-identical radiance to the generic one.
 
-use crate::bsdf::Bsdf;
 use crate::offset::offset_ray_origin;
 use crate::scene_data::SceneData;
 use ggx_core::mis::power_heuristic;
 use ggx_core::{Frame, SampleStream};
+use ggx_render::Bsdf;
 use ggx_scene::{LightStrategy, NO_INDEX};
 use glam::{Vec2, Vec3};
 

@@ -10,6 +10,7 @@ use crate::integrator::{Counters, trace};
 use crate::scene_data::SceneData;
 use ggx_core::{SampleStream, SequenceKind};
 use ggx_film::Film;
+use ggx_render::{RenderError, new_film, pass_spp};
 use ggx_scene::SceneFeatures;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
@@ -18,8 +19,6 @@ use std::time::{Duration, Instant};
 
 /// Tile edge in pixels.
 const TILE: u32 = 16;
-/// Largest number of samples per pixel in one pass.
-const MAX_PASS_SPP: u32 = 16;
 
 /// Per-pixel sampling set-up shared by all tiles of a render.
 #[derive(Clone, Copy)]
@@ -83,11 +82,6 @@ pub fn select_kernel(features: &SceneFeatures, specialize: bool) -> (TileFn, &'s
     }
 }
 
-/// Samples per pixel of pass `k` (1, 1, 2, 4, 8, 16, 16, ...).
-pub fn pass_spp(k: u32) -> u32 {
-    if k == 0 { 1 } else { (1u32 << (k - 1).min(4)).min(MAX_PASS_SPP) }
-}
-
 /// What one call of [`run`] produced.
 pub struct Outcome {
     /// The accumulated image.
@@ -112,10 +106,10 @@ pub fn run(
     pool: &rayon::ThreadPool,
     cancel: &AtomicBool,
     progress: &dyn Fn(u32, Duration),
-) -> Outcome {
+) -> Result<Outcome, RenderError> {
     let start = Instant::now();
     let [width, height] = scene.camera.resolution;
-    let mut film = Film::new(width, height);
+    let mut film = new_film(width, height)?;
     let tiles: Vec<[u32; 4]> = (0..height.div_ceil(TILE))
         .flat_map(|ty| {
             (0..width.div_ceil(TILE))
@@ -123,7 +117,14 @@ pub fn run(
         })
         .collect();
     let rays = AtomicU64::new(0);
-    let mut pass_buffer = vec![Vec3::ZERO; (width * height) as usize];
+    // The film's length is the pixel count, and it was allocated: so can the pass be.
+    let mut pass_buffer = Vec::new();
+    pass_buffer.try_reserve_exact(film.len()).map_err(|_| RenderError::Film {
+        width,
+        height,
+        source: ggx_film::FilmError::TooLarge { width, height },
+    })?;
+    pass_buffer.resize(film.len(), Vec3::ZERO);
     let (mut done, mut k, mut interrupted) = (0u32, 0u32, false);
     while done < spp {
         let mut n = pass_spp(k).min(spp - done);
@@ -167,5 +168,5 @@ pub fn run(
             break;
         }
     }
-    Outcome { film, interrupted, rays: rays.load(Ordering::Relaxed), elapsed: start.elapsed() }
+    Ok(Outcome { film, interrupted, rays: rays.load(Ordering::Relaxed), elapsed: start.elapsed() })
 }

@@ -1,7 +1,7 @@
 //! What the kernels read: the scene's triangles, BVH, precomputed BSDFs and lights.
 
 use crate::accel::{Accel, AccelKind};
-use crate::bsdf::Bsdf;
+use ggx_render::Bsdf;
 use ggx_scene::{AreaLights, Camera, Environment, LightStrategy, Scene, SceneFeatures, ShadingNormals, Triangle};
 use glam::Vec3;
 

@@ -14,7 +14,7 @@ fn scene_from(text: &str) -> Scene {
 }
 
 fn render(scene: &Scene) -> RenderResult {
-    Renderer::new(scene, AccelKind::default()).render(&RenderOptions::default(), &RenderControl::default())
+    Renderer::new(scene, AccelKind::default()).render(&RenderOptions::default(), &RenderControl::default()).unwrap()
 }
 
 fn mean(pixels: &[Vec3]) -> Vec3 {
@@ -35,7 +35,7 @@ fn every_shipped_scene_renders() {
         scene.integrator.spp = 2;
         scene.integrator.time_budget = None;
         for accel in [AccelKind::Cwbvh, AccelKind::Bvh2] {
-            let r = Renderer::new(&scene, accel).render(&RenderOptions::default(), &RenderControl::default());
+            let r = Renderer::new(&scene, accel).render(&RenderOptions::default(), &RenderControl::default()).unwrap();
             let px = r.film.mean();
             assert_eq!(r.spp, 2);
             assert!(px.iter().all(|p| p.is_finite() && p.min_element() >= 0.0), "{}", path.display());
@@ -248,16 +248,17 @@ fn image_is_bit_identical_for_any_thread_count_and_kernel() {
     scene.integrator.spp = 6;
     let renderer = Renderer::new(&scene, AccelKind::Cwbvh);
     let image = |threads, specialize| {
-        let r = renderer.render(&RenderOptions { threads, specialize }, &RenderControl::default());
+        let r = renderer.render(&RenderOptions { threads, specialize }, &RenderControl::default()).unwrap();
         r.film.mean().iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<u32>>()
     };
     let one = image(1, true);
     assert_eq!(one, image(2, true), "1 vs 2 threads");
     assert_eq!(one, image(3, true), "1 vs 3 threads");
     assert_eq!(one, image(2, false), "specialized vs generic kernel");
-    let bvh2 = Renderer::new(&scene, AccelKind::Bvh2).render(&RenderOptions::default(), &RenderControl::default());
+    let bvh2 =
+        Renderer::new(&scene, AccelKind::Bvh2).render(&RenderOptions::default(), &RenderControl::default()).unwrap();
     let diff = mean(&bvh2.film.mean())
-        - mean(&renderer.render(&RenderOptions::default(), &RenderControl::default()).film.mean());
+        - mean(&renderer.render(&RenderOptions::default(), &RenderControl::default()).unwrap().film.mean());
     assert!(diff.abs().max_element() < 1e-3, "BVH2 and CWBVH differ by {diff}");
 }
 
@@ -275,13 +276,16 @@ fn cancelling_keeps_the_completed_passes() {
         }
     };
     let r = renderer
-        .render(&RenderOptions::default(), &RenderControl { cancel: Some(&cancel), progress: Some(&stop_after_first) });
+        .render(&RenderOptions::default(), &RenderControl { cancel: Some(&cancel), progress: Some(&stop_after_first) })
+        .unwrap();
     assert!(r.interrupted);
     assert_eq!(r.spp, 2, "passes 1 + 1 completed before the flag was seen");
     assert!(mean(&r.film.mean()).max_element() > 0.0);
 
     let cancelled = AtomicBool::new(true);
-    let r = renderer.render(&RenderOptions::default(), &RenderControl { cancel: Some(&cancelled), progress: None });
+    let r = renderer
+        .render(&RenderOptions::default(), &RenderControl { cancel: Some(&cancelled), progress: None })
+        .unwrap();
     assert!(r.interrupted && r.spp == 0);
 }
 

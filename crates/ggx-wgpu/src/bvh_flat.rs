@@ -29,6 +29,17 @@ pub struct BvhNode {
     pub first_index: u32,
 }
 
+/// The node list of a scene without triangles. A real tree's children never start at index 0
+/// (the root's slot), so an inner node pointing there cannot occur otherwise: the traversal,
+/// here and in `scene.wgsl`, tests for it first and returns "no hit" without reading a box
+/// or a child (a box test alone would hit its `[-1, 1]^3` and read `nodes[1]`, past the end).
+pub const EMPTY_TREE: BvhNode = BvhNode { min: [1.0; 3], prim_count: 0, max: [-1.0; 3], first_index: 0 };
+
+/// Whether `root` is [`EMPTY_TREE`]'s root (an inner node whose children would be itself).
+pub fn is_empty_tree(root: &BvhNode) -> bool {
+    root.prim_count == 0 && root.first_index == 0
+}
+
 /// A closest hit in the flattened BVH.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FlatHit {
@@ -116,6 +127,9 @@ impl FlatBvh {
     /// soon as they are reached; `visit(primitive, t, ray)` returns false to stop.
     fn traverse(&self, ray: &mut Ray, visit: &mut dyn FnMut(u32, f32, &mut Ray) -> bool) {
         let Some(root) = self.nodes.first() else { return };
+        if is_empty_tree(root) {
+            return;
+        }
         let box_t = |n: &BvhNode, ray: &Ray| Aabb { min: n.min.into(), max: n.max.into() }.intersect_ray(ray);
         let mut leaf = |n: &BvhNode, ray: &mut Ray| {
             (n.first_index..n.first_index + n.prim_count).all(|p| visit(p, self.intersect(p, ray), ray))
@@ -214,6 +228,22 @@ mod tests {
                 (o, dir)
             })
             .collect()
+    }
+
+    #[test]
+    fn the_empty_tree_is_recognised_and_no_real_root_looks_like_it() {
+        assert!(is_empty_tree(&EMPTY_TREE));
+        let flat = FlatBvh { nodes: vec![EMPTY_TREE], ..FlatBvh::default() };
+        // Through the placeholder's [-1, 1]^3 box: no hit, and no read past the one node.
+        assert_eq!(flat.closest(Vec3::new(0.0, 0.0, -5.0), Vec3::Z, f32::INFINITY), None);
+        assert!(flat.unoccluded(Vec3::ZERO, Vec3::X, 1e3));
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+        for name in ["cornell.toml", "three-spheres.toml"] {
+            let scene = ggx_scene::load_scene(&dir.join(name)).unwrap();
+            let flat = FlatBvh::build(&scene.mesh.triangles);
+            assert!(!is_empty_tree(&flat.nodes[0]), "{name}");
+            assert!(flat.nodes.iter().skip(1).all(|n| n.prim_count > 0 || n.first_index > 0), "{name}");
+        }
     }
 
     #[test]

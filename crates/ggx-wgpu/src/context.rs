@@ -56,6 +56,22 @@ pub enum GpuError {
     /// Mapping a buffer for reading failed.
     #[error("mapping a buffer failed: {0}")]
     Map(#[from] wgpu::BufferAsyncError),
+    /// A scene table or the image is larger than one buffer of this device may be.
+    #[error(
+        "the {what} need {}, more than this adapter's largest storage buffer ({}): render on the CPU \
+         (--backend cpu), or lower the resolution or the scene's size", ggx_scene::format_bytes(*.bytes), ggx_scene::format_bytes(*.limit)
+    )]
+    TooLarge {
+        /// Which buffer.
+        what: &'static str,
+        /// Bytes it needs.
+        bytes: u64,
+        /// The device's limit.
+        limit: u64,
+    },
+    /// The render's own buffers (the film) could not be allocated.
+    #[error(transparent)]
+    Render(#[from] ggx_render::RenderError),
 }
 
 impl GpuError {
@@ -131,6 +147,9 @@ impl GpuContext {
             .limits()
             .max_storage_buffers_per_shader_stage
             .min(wgpu::Limits::default().max_storage_buffers_per_shader_stage);
+        // Large scenes and images: as large a buffer as the adapter allows.
+        required_limits.max_storage_buffer_binding_size = adapter.limits().max_storage_buffer_binding_size;
+        required_limits.max_buffer_size = adapter.limits().max_buffer_size;
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("ggx-wgpu"),
@@ -153,6 +172,11 @@ impl GpuContext {
     pub fn describe(&self) -> String {
         let info = self.adapter_info();
         format!("{} [{:?}, {:?}, {} {}]", info.name, info.backend, info.device_type, info.driver, info.driver_info)
+    }
+
+    /// Whether the adapter renders in software on the CPU (Mesa's llvmpipe, WARP, SwiftShader).
+    pub fn is_software(&self) -> bool {
+        self.adapter_info().device_type == wgpu::DeviceType::Cpu
     }
 
     /// The adapter.

@@ -18,6 +18,18 @@ pub fn path_tracer_wgsl() -> String {
     )
 }
 
+/// Fails with [`GpuError::TooLarge`] when a buffer of `sizes` (what, bytes) exceeds what the
+/// device can allocate or bind as one storage buffer: said before anything is uploaded, in
+/// place of a validation error from inside wgpu.
+fn check_buffer_sizes(ctx: &GpuContext, sizes: &[(&'static str, u64)]) -> Result<(), GpuError> {
+    let limits = ctx.device().limits();
+    let limit = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+    match sizes.iter().find(|(_, bytes)| *bytes > limit) {
+        Some(&(what, bytes)) => Err(GpuError::TooLarge { what, bytes, limit }),
+        None => Ok(()),
+    }
+}
+
 /// Which features a kernel variant keeps (the others are compiled out).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Variant {
@@ -68,6 +80,19 @@ impl GpuScene {
         let device = ctx.device();
         let pixels = u64::from(tables.params.width) * u64::from(tables.params.height);
         let output_size = pixels * 16;
+        let (nodes, triangles) = (tables.nodes(), tables.triangles());
+        let (normals, materials) = (non_empty(&tables.normals), non_empty(&tables.materials));
+        let (emitters, table) = (non_empty(&tables.emitters), non_empty(&tables.table));
+        let sizes = [
+            ("BVH nodes", size_of_val(nodes.as_slice()) as u64),
+            ("triangles", size_of_val(triangles.as_slice()) as u64),
+            ("shading normals", size_of_val(normals.as_slice()) as u64),
+            ("materials", size_of_val(materials.as_slice()) as u64),
+            ("emitters", size_of_val(emitters.as_slice()) as u64),
+            ("light and environment tables", size_of_val(table.as_slice()) as u64),
+            ("image", output_size),
+        ];
+        check_buffer_sizes(ctx, &sizes)?;
         checked(device, || {
             let source = path_tracer_wgsl();
             let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -106,12 +131,12 @@ impl GpuScene {
                     usage: wgpu::BufferUsages::STORAGE,
                 })
             };
-            let nodes = init("bvh nodes", bytemuck::cast_slice(&tables.nodes()));
-            let triangles = init("triangles", bytemuck::cast_slice(&tables.triangles()));
-            let normals = init("shading normals", bytemuck::cast_slice(&non_empty(&tables.normals)));
-            let materials = init("materials", bytemuck::cast_slice(&non_empty(&tables.materials)));
-            let emitters = init("emitters", bytemuck::cast_slice(&non_empty(&tables.emitters)));
-            let table = init("tables", bytemuck::cast_slice(&non_empty(&tables.table)));
+            let nodes = init("bvh nodes", bytemuck::cast_slice(&nodes));
+            let triangles = init("triangles", bytemuck::cast_slice(&triangles));
+            let normals = init("shading normals", bytemuck::cast_slice(&normals));
+            let materials = init("materials", bytemuck::cast_slice(&materials));
+            let emitters = init("emitters", bytemuck::cast_slice(&emitters));
+            let table = init("tables", bytemuck::cast_slice(&table));
             let params = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("params"),
                 size: size_of::<Params>() as u64,

@@ -1,5 +1,5 @@
 //! [`WgpuRenderer`]: ggx-cpu's render loop on a wgpu adapter. Same pass schedule
-//! ([`ggx_cpu::render::pass_spp`]), same sample streams, same integrator; each pass is split
+//! ([`ggx_render::pass_spp`]), same sample streams, same integrator; each pass is split
 //! into dispatches of at most [`DISPATCH_PATHS`] paths so that no dispatch runs long, and the
 //! per-pixel sums are read back after every pass and added to a [`Film`].
 
@@ -7,14 +7,12 @@ use crate::bvh_flat::STACK_SIZE;
 use crate::context::{GpuContext, GpuError};
 use crate::gpu_scene::{GpuScene, Variant};
 use crate::scene_upload::{Params, SceneTables};
-use ggx_cpu::render::pass_spp;
-use ggx_cpu::{Progress, RenderControl, RenderOptions, RenderResult};
-use ggx_film::Film;
+use ggx_render::{Progress, RenderControl, RenderOptions, RenderResult, new_film, pass_spp, time_budget};
 use ggx_scene::{IntegratorSettings, Scene, SceneFeatures};
 use glam::Vec3;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// Most camera paths (pixels times samples) one dispatch traces.
 pub const DISPATCH_PATHS: u64 = 1 << 18;
@@ -81,8 +79,8 @@ impl<'a> WgpuRenderer<'a> {
         let cancel = control.cancel.unwrap_or(&never);
         let (width, height) = (self.params.width, self.params.height);
         let spp = self.settings.spp.max(1);
-        let budget = self.settings.time_budget.filter(|t| *t > 0.0 && t.is_finite()).map(Duration::from_secs_f32);
-        let mut film = Film::new(width, height);
+        let budget = time_budget(&self.settings);
+        let mut film = new_film(width, height)?;
         let (mut done, mut k, mut rays, mut interrupted) = (0u32, 0u32, 0u64, false);
         'passes: while done < spp {
             let mut n = pass_spp(k).min(spp - done);

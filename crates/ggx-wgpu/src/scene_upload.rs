@@ -2,10 +2,10 @@
 //! leaf-order triangles, shading normals, materials (ggx-cpu's precomputed [`Bsdf`]s), emitters,
 //! one `f32` table for the light and environment CDFs and texels, and the [`Params`] uniform.
 
-use crate::bvh_flat::{BvhNode, FlatBvh};
+use crate::bvh_flat::{BvhNode, EMPTY_TREE, FlatBvh};
 use bytemuck::{Pod, Zeroable};
 use ggx_core::GgxConductor;
-use ggx_cpu::{Bsdf, stream_seed};
+use ggx_render::{Bsdf, stream_seed};
 use ggx_scene::{Emitter, Environment, LightStrategy, SamplerKind, Scene, ShadingNormals, Triangle};
 use glam::{Quat, Vec3};
 
@@ -217,10 +217,11 @@ impl SceneTables {
         SceneTables { bvh, normals: scene.mesh.shading_normals.clone(), materials, emitters, table, params }
     }
 
-    /// The nodes, never empty: an empty scene gets one inner node whose box nothing hits.
+    /// The nodes, never empty: an empty scene gets [`EMPTY_TREE`], which the traversal
+    /// recognises before it tests any box.
     pub fn nodes(&self) -> Vec<BvhNode> {
         if self.bvh.nodes.is_empty() {
-            return vec![BvhNode { min: [1.0; 3], prim_count: 0, max: [-1.0; 3], first_index: 0 }];
+            return vec![EMPTY_TREE];
         }
         self.bvh.nodes.clone()
     }

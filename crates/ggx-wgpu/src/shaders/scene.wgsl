@@ -191,6 +191,10 @@ fn intersect_leaf(node: BvhNode, ray: ptr<function, Ray>, hit: ptr<function, u32
 fn traverse(ray: ptr<function, Ray>, any_hit: bool) -> u32 {
     var hit = NO_INDEX;
     let root = nodes[0];
+    // EMPTY_TREE (bvh_flat.rs): an inner node whose children would start at the root itself.
+    if root.prim_count == 0u && root.first_index == 0u {
+        return hit;
+    }
     if aabb_intersect(root, *ray) >= (*ray).tmax {
         return hit;
     }

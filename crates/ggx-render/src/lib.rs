@@ -1,0 +1,20 @@
+//! # ggx-render
+//!
+//! What the ggx renderers have in common, so that neither backend depends on the other:
+//!
+//! * the interface every backend implements: [`RenderOptions`] and [`RenderControl`] in,
+//!   [`Progress`] during, [`RenderResult`] or [`RenderError`] out;
+//! * the pass schedule ([`pass_spp`]), the stream seed ([`stream_seed`]) and the time budget
+//!   ([`time_budget`]), which make the CPU and GPU backends trace the same samples;
+//! * the scene's materials as ggx-core BSDFs ([`Bsdf`]), shared by the CPU kernels and the
+//!   GPU upload;
+//! * [`new_film`]: the image buffer, allocated fallibly (an error, never an abort).
+#![deny(missing_docs)]
+
+mod bsdf;
+mod interface;
+mod schedule;
+
+pub use bsdf::{Bsdf, sampling_for};
+pub use interface::{Progress, RenderControl, RenderError, RenderOptions, RenderResult, new_film};
+pub use schedule::{MAX_PASS_SPP, pass_spp, stream_seed, time_budget};
