@@ -4,7 +4,9 @@
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use ggx_scene::{MAX_RESOLUTION, MAX_SPP};
+use ggx_scene::{MAX_RESOLUTION, MAX_SEED, MAX_SPP};
+
+use crate::limits_args::LimitArgs;
 
 const EXAMPLES: &str = "\
 Examples:
@@ -58,13 +60,14 @@ pub struct RenderArgs {
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SPP)))]
     pub spp: Option<u32>,
 
-    /// Time budget: stop when it is used up, even with fewer than --spp samples per pixel
-    /// [default: the scene's integrator.time].
-    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    /// Time budget: stop when it is used up, even with fewer than --spp samples per pixel;
+    /// 0 means no budget [default: the scene's integrator.time].
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true, value_parser = parse_seconds)]
     pub time: Option<f32>,
 
-    /// Seed of the sample sequence [default: the scene's integrator.seed].
-    #[arg(long, value_name = "S")]
+    /// Seed of the sample sequence, in [0, 4294967295]: each gives a different image
+    /// [default: the scene's integrator.seed].
+    #[arg(long, value_name = "S", value_parser = clap::value_parser!(u64).range(0..=MAX_SEED))]
     pub seed: Option<u64>,
 
     /// Image width; alone, the height follows the scene's aspect ratio.
@@ -99,6 +102,10 @@ pub struct RenderArgs {
     /// (for benchmarking the specialization).
     #[arg(long)]
     pub generic: bool,
+
+    /// Limits on what is read and allocated.
+    #[command(flatten, next_help_heading = "Limits")]
+    pub limits: LimitArgs,
 }
 
 /// `ggx info`.
@@ -106,6 +113,10 @@ pub struct RenderArgs {
 pub struct InfoArgs {
     /// Scene file (TOML).
     pub scene: PathBuf,
+
+    /// Limits on what is read and allocated.
+    #[command(flatten, next_help_heading = "Limits")]
+    pub limits: LimitArgs,
 }
 
 /// Largest accepted `--threads`.
@@ -142,11 +153,12 @@ pub enum AccelArg {
     Bvh2,
 }
 
-/// `--time`: a positive, finite number of seconds.
+/// `--time`: a finite number of seconds >= 0 (0: no budget). Budgets too long for a
+/// `Duration` are no budget in effect (the renderers treat them so).
 fn parse_seconds(s: &str) -> Result<f32, String> {
     match s.trim().parse::<f32>() {
-        Ok(t) if t > 0.0 && t.is_finite() => Ok(t),
-        Ok(_) => Err(format!("must be a positive, finite number of seconds, got {s}")),
+        Ok(t) if t >= 0.0 && t.is_finite() => Ok(t),
+        Ok(_) => Err(format!("must be a finite number of seconds >= 0 (0: no budget), got {s}")),
         Err(e) => Err(format!("not a number of seconds ({e})")),
     }
 }
@@ -186,6 +198,16 @@ mod tests {
         assert_eq!((r.exposure, r.tonemap, r.accel, r.generic), (0.0, ToneMapArg::Aces, AccelArg::Cwbvh, false));
         let r = parse(&["--spp", "8", "--time", "1.5", "--exposure", "-2", "--accel", "bvh2", "--generic"]).unwrap();
         assert_eq!((r.spp, r.time, r.exposure, r.accel, r.generic), (Some(8), Some(1.5), -2.0, AccelArg::Bvh2, true));
+        // 0 is no budget, as `time = 0` in a scene; huge budgets are accepted (no budget in effect).
+        assert_eq!(parse(&["--time", "0"]).unwrap().time, Some(0.0));
+        assert_eq!(parse(&["--time", "2e19"]).unwrap().time, Some(2e19));
+        assert_eq!(parse(&["--seed", "4294967295"]).unwrap().seed, Some(4_294_967_295));
+    }
+
+    #[test]
+    fn a_negative_time_gets_a_message_about_time() {
+        let err = parse(&["--time", "-1"]).unwrap_err().to_string();
+        assert!(err.contains("must be a finite number of seconds >= 0"), "{err}");
     }
 
     #[test]
@@ -193,8 +215,10 @@ mod tests {
         for bad in [
             &["--spp", "0"][..],
             &["--spp", "-3"],
-            &["--time", "0"],
             &["--time", "-1"],
+            &["--time", "-0.5"],
+            &["--seed", "4294967296"],
+            &["--seed", "18446744073709551615"],
             &["--time", "nan"],
             &["--time", "inf"],
             &["--width", "0"],

@@ -14,9 +14,10 @@ pub enum Device {
     Wgpu(GpuContext),
 }
 
-/// Resolves `--backend`: `wgpu` fails when no adapter can be had, `auto` then falls back to the
-/// CPU with a message. The adapter chosen (see `ggx_wgpu::GpuOptions` for the `WGPU_*`
-/// variables) is printed.
+/// Resolves `--backend`: `wgpu` fails when no adapter can be had; `auto` renders on the CPU,
+/// with a message, when there is none or when the adapter is a software renderer (such as
+/// Mesa's llvmpipe: the CPU backend is faster on the same cores). The adapter chosen (see
+/// `ggx_wgpu::GpuOptions` for the `WGPU_*` variables) is printed.
 pub fn select(backend: Backend) -> Result<Device> {
     match backend {
         Backend::Cpu => Ok(Device::Cpu),
@@ -26,6 +27,10 @@ pub fn select(backend: Backend) -> Result<Device> {
             Ok(Device::Wgpu(ctx))
         }
         Backend::Auto => match GpuContext::new(GpuOptions::default()) {
+            Ok(ctx) if ctx.is_software() => {
+                eprintln!("wgpu adapter {} is a software renderer: rendering on the CPU backend", ctx.describe());
+                Ok(Device::Cpu)
+            }
             Ok(ctx) => {
                 eprintln!("wgpu adapter: {}", ctx.describe());
                 Ok(Device::Wgpu(ctx))

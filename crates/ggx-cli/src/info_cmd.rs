@@ -6,15 +6,23 @@ use std::io::Write as _;
 use anyhow::{Context, Result};
 use clap::ValueEnum;
 use ggx_cpu::Renderer;
-use ggx_scene::{BsdfStrategy, Environment, LightStrategy, Material, SamplerKind, Scene};
+use ggx_scene::{BsdfStrategy, Environment, LightStrategy, Limit, Limits, Material, SamplerKind, Scene};
 
-use crate::accel;
 use crate::args::{AccelArg, InfoArgs};
+use crate::{accel, memory};
 
-/// Runs `ggx info`.
+/// Runs `ggx info`: the description, the memory estimate and the limits are printed before
+/// the BVHs are built, and the build is refused when the estimate is over `--max-memory`.
 pub fn run(args: &InfoArgs) -> Result<()> {
-    let scene = ggx_scene::load_scene(&args.scene)?;
+    let limits = args.limits.limits();
+    let scene = ggx_scene::load_scene_with(&args.scene, &limits)?;
     let mut text = describe(&scene);
+    let _ = writeln!(text, "{:<13}{}", "memory:", memory::estimate(&scene));
+    let _ = writeln!(text, "{:<13}{}", "limits:", describe_limits(&limits));
+    let mut stdout = std::io::stdout().lock();
+    stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()).context("cannot write to stdout")?;
+    memory::check(&scene, &limits)?;
+    let mut text = String::new();
     let times: Vec<String> = AccelArg::value_variants()
         .iter()
         .map(|&a| {
@@ -23,7 +31,21 @@ pub fn run(args: &InfoArgs) -> Result<()> {
         })
         .collect();
     let _ = writeln!(text, "bvh build:  {}", times.join(", "));
-    std::io::stdout().lock().write_all(text.as_bytes()).context("cannot write to stdout")
+    stdout.write_all(text.as_bytes()).context("cannot write to stdout")
+}
+
+/// Every limit with the flag that changes it, e.g. `scene file 64.0 MiB (--max-scene-bytes)`.
+fn describe_limits(limits: &Limits) -> String {
+    let parts = [
+        ("scene file", Limit::SceneBytes),
+        ("mesh file", Limit::MeshBytes),
+        ("map pixels", Limit::MapPixels),
+        ("triangles", Limit::Triangles),
+        ("memory", Limit::Memory),
+    ];
+    let parts: Vec<String> =
+        parts.iter().map(|&(name, l)| format!("{name} {} ({})", l.format(limits.get(l)), l.flag())).collect();
+    parts.join(", ")
 }
 
 /// Everything but the BVH build times, one `key: value` line each.

@@ -9,10 +9,13 @@ mod backend;
 mod exit;
 mod info_cmd;
 mod interrupt;
+mod limits_args;
+mod memory;
 mod output;
 mod overrides;
 mod progress;
 mod render_cmd;
+mod runtime_dir;
 
 use std::process::ExitCode;
 
@@ -23,6 +26,12 @@ use crate::exit::Outcome;
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Command::Render(args) = &cli.command
+        && args.backend != args::Backend::Cpu
+    {
+        // Still single-threaded here, as `set_var` requires.
+        runtime_dir::ensure_valid();
+    }
     let result = match &cli.command {
         Command::Render(args) => render_cmd::run(args),
         Command::Info(args) => info_cmd::run(args).map(|()| Outcome::Done),

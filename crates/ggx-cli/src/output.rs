@@ -1,14 +1,15 @@
 //! Checks the output path before any work is done, so a long render is never lost to a
-//! typo in the file name.
+//! typo in the file name, a directory that cannot be written, or an input it would destroy.
 
 use std::path::Path;
 
 use anyhow::{Result, bail};
 use ggx_film::SUPPORTED_EXTENSIONS;
 
-/// Fails unless `path` has an extension `ggx_film::write_image` understands, its
-/// directory exists and it is not itself a directory.
-pub fn check(path: &Path) -> Result<()> {
+/// Fails unless `ggx_film::write_image` can write `path` (a supported extension, a directory
+/// in which a file can be created, nothing but a regular file to replace: see
+/// `ggx_film::check_output`) and `path` is none of `inputs` (through links and other names).
+pub fn check(path: &Path, inputs: &[&Path]) -> Result<()> {
     let shown = path.display();
     let supported = SUPPORTED_EXTENSIONS.map(|e| format!(".{e}")).join(", ");
     match path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()) {
@@ -16,17 +17,25 @@ pub fn check(path: &Path) -> Result<()> {
         Some(ext) => bail!("{shown}: unsupported output format `.{ext}` (supported: {supported})"),
         None => bail!("{shown}: the output file needs an extension ({supported})"),
     }
-    let dir = match path.parent() {
-        Some(dir) if !dir.as_os_str().is_empty() => dir,
-        _ => Path::new("."),
-    };
-    if !dir.is_dir() {
-        bail!("{shown}: output directory {} does not exist", dir.display());
+    if let Some(input) = inputs.iter().find(|input| same_file(path, input)) {
+        bail!("{shown}: is the input {}; refusing to overwrite it", input.display());
     }
-    if path.is_dir() {
-        bail!("{shown}: is a directory");
-    }
+    ggx_film::check_output(path)?;
     Ok(())
+}
+
+/// Whether `a` and `b` name the same existing file (links followed).
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        #[cfg(unix)]
+        (Ok(ma), Ok(mb)) => {
+            use std::os::unix::fs::MetadataExt as _;
+            (ma.dev(), ma.ino()) == (mb.dev(), mb.ino())
+        }
+        #[cfg(not(unix))]
+        (Ok(_), Ok(_)) => matches!((a.canonicalize(), b.canonicalize()), (Ok(x), Ok(y)) if x == y),
+        _ => false,
+    }
 }
 
 #[cfg(test)]
@@ -35,21 +44,38 @@ mod tests {
 
     #[test]
     fn extension_must_be_supported() {
-        check(Path::new("x.png")).unwrap();
-        check(Path::new("./x.EXR")).unwrap();
-        let msg = check(Path::new("x.jpg")).unwrap_err().to_string();
+        let msg = check(Path::new("x.jpg"), &[]).unwrap_err().to_string();
         assert_eq!(msg, "x.jpg: unsupported output format `.jpg` (supported: .exr, .png)");
-        let msg = check(Path::new("x")).unwrap_err().to_string();
+        let msg = check(Path::new("x"), &[]).unwrap_err().to_string();
         assert_eq!(msg, "x: the output file needs an extension (.exr, .png)");
     }
 
     #[test]
-    fn directory_must_exist() {
-        let msg = check(Path::new("no/such/dir/x.png")).unwrap_err().to_string();
-        assert_eq!(msg, "no/such/dir/x.png: output directory no/such/dir does not exist");
+    fn directory_must_exist_and_be_writable() {
+        let msg = format!("{:#}", check(Path::new("no/such/dir/x.png"), &[]).unwrap_err());
+        assert!(msg.contains("output directory no/such/dir does not exist"), "{msg}");
         let dir = std::env::temp_dir().join(format!("ggx-cli-output-test-{}.png", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        assert!(check(&dir).unwrap_err().to_string().ends_with("is a directory"));
+        let msg = format!("{:#}", check(&dir, &[]).unwrap_err());
+        assert!(msg.contains("a directory"), "{msg}");
+        let ok = dir.join("fine.png");
+        check(&ok, &[]).unwrap();
+        assert!(!ok.exists(), "the check leaves nothing behind");
         std::fs::remove_dir(&dir).unwrap();
+    }
+
+    #[test]
+    fn the_input_is_never_the_output() {
+        let dir = std::env::temp_dir().join(format!("ggx-cli-output-input-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let scene = dir.join("x.png");
+        std::fs::write(&scene, "[camera]\n").unwrap();
+        let msg = check(&scene, &[&scene]).unwrap_err().to_string();
+        assert!(msg.contains("is the input") && msg.contains("refusing to overwrite"), "{msg}");
+        // Another name for the same file.
+        let other = dir.join(".").join("x.png");
+        assert!(check(&other, &[&scene]).is_err());
+        check(&dir.join("y.png"), &[&scene]).unwrap();
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -13,7 +13,7 @@ pub fn apply(scene: &mut Scene, args: &RenderArgs) -> Result<()> {
         scene.integrator.spp = spp;
     }
     if let Some(time) = args.time {
-        scene.integrator.time_budget = Some(time);
+        scene.integrator.time_budget = (time > 0.0).then_some(time);
     }
     if let Some(seed) = args.seed {
         scene.integrator.seed = seed;

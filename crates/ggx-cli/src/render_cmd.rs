@@ -2,39 +2,48 @@
 //! after Ctrl-C) and print a summary.
 
 use std::io::Write as _;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use ggx_cpu::{Progress, RenderControl, RenderOptions, RenderResult, Renderer};
 use ggx_film::{OutputOptions, ToneMap};
 use ggx_scene::Scene;
-use ggx_wgpu::{GpuContext, WgpuRenderer};
+use ggx_wgpu::{GpuContext, GpuError, WgpuRenderer};
 use indicatif::ProgressBar;
 
-use crate::args::{RenderArgs, ToneMapArg};
+use crate::args::{Backend, RenderArgs, ToneMapArg};
 use crate::backend::{self, Device};
 use crate::exit::Outcome;
+use crate::interrupt::{Interrupt, Phase};
 use crate::progress::RenderProgress;
-use crate::{accel, interrupt, output, overrides};
+use crate::{accel, memory, output, overrides};
 
 /// Runs `ggx render`.
 pub fn run(args: &RenderArgs) -> Result<Outcome> {
+    // Signals are honoured from the start: until rendering begins they exit at once.
+    let bar = crate::progress::new_bar();
+    let interrupt = Interrupt::install(bar.clone())?;
     // Everything that can be checked without rendering is checked first.
     let device = backend::select(args.backend)?;
-    output::check(&args.output)?;
-    let bar = crate::progress::new_bar();
-    let cancel = interrupt::install(bar.clone())?;
+    output::check(&args.output, &[&args.scene])?;
 
-    let mut scene = ggx_scene::load_scene(&args.scene)?;
+    let limits = args.limits.limits();
+    eprintln!("loading {}", args.scene.display());
+    let mut scene = ggx_scene::load_scene_with(&args.scene, &limits)?;
     overrides::apply(&mut scene, args)?;
+    let inputs: Vec<&std::path::Path> = scene.inputs.iter().map(PathBuf::as_path).collect();
+    output::check(&args.output, &inputs)?;
+    memory::check(&scene, &limits)?;
 
-    let rendered = match device {
-        Device::Cpu => render_cpu(&scene, args, bar, &cancel),
-        Device::Wgpu(ctx) => render_wgpu(&scene, args, &ctx, bar, &cancel)?,
-    };
-    let Some(result) = rendered else {
-        eprintln!("interrupted before rendering started: no image written");
-        return Ok(Outcome::Interrupted);
+    let result = match device {
+        Device::Cpu => render_cpu(&scene, args, bar, &interrupt)?,
+        Device::Wgpu(ctx) => match render_wgpu(&scene, args, &ctx, bar.clone(), &interrupt) {
+            Err(e) if args.backend == Backend::Auto && too_large_for_gpu(&e) => {
+                eprintln!("{}: rendering on the CPU", crate::exit::message(&e));
+                render_cpu(&scene, args, bar, &interrupt)?
+            }
+            other => other?,
+        },
     };
     let requested = scene.integrator.spp;
     if result.spp == 0 {
@@ -48,18 +57,20 @@ pub fn run(args: &RenderArgs) -> Result<Outcome> {
         eprintln!("time budget of {budget} s reached after {} of {requested} spp", result.spp);
     }
 
+    interrupt.set_phase(Phase::Writing);
     let options = OutputOptions { exposure: args.exposure, tonemap: tone_map(args.tonemap) };
     let (width, height) = (result.film.width(), result.film.height());
     // The error names the path and what failed.
     ggx_film::write_image(&args.output, width, height, &result.film.mean(), &options)?;
 
-    let line = summary(&result, [width, height], &args.output.display().to_string());
+    let interrupted = result.interrupted || interrupt.requested();
+    let line = summary(&result, interrupted, [width, height], &args.output.display().to_string());
     writeln!(std::io::stdout(), "{line}").context("cannot write to stdout")?;
-    Ok(if result.interrupted { Outcome::Interrupted } else { Outcome::Done })
+    Ok(if interrupted { Outcome::Interrupted } else { Outcome::Done })
 }
 
-/// Builds the BVH and renders on the CPU; `None` when cancelled before rendering started.
-fn render_cpu(scene: &Scene, args: &RenderArgs, bar: ProgressBar, cancel: &AtomicBool) -> Option<RenderResult> {
+/// Builds the BVH and renders on the CPU.
+fn render_cpu(scene: &Scene, args: &RenderArgs, bar: ProgressBar, interrupt: &Interrupt) -> Result<RenderResult> {
     let renderer = Renderer::new(scene, accel::kind(args.accel));
     let [width, height] = scene.camera.resolution;
     let kernel = if args.generic { "generic kernel" } else { "specialized kernel" };
@@ -71,11 +82,7 @@ fn render_cpu(scene: &Scene, args: &RenderArgs, bar: ProgressBar, cancel: &Atomi
         accel::name(args.accel),
         accel::format_build_time(renderer.build_time()),
     );
-    // Ctrl-C during loading or the BVH build: skip rendering.
-    if cancel.load(Ordering::SeqCst) {
-        return None;
-    }
-
+    interrupt.set_phase(Phase::Rendering);
     let progress = RenderProgress::start(
         bar,
         scene.integrator.spp,
@@ -83,21 +90,21 @@ fn render_cpu(scene: &Scene, args: &RenderArgs, bar: ProgressBar, cancel: &Atomi
         scene.integrator.time_budget,
     );
     let on_progress = |p: Progress| progress.update(&p);
-    let control = RenderControl { cancel: Some(cancel), progress: Some(&on_progress) };
+    let control = RenderControl { cancel: Some(interrupt.cancel_flag()), progress: Some(&on_progress) };
     let options = RenderOptions { threads: usize::from(args.threads), specialize: !args.generic };
     let result = renderer.render(&options, &control);
     progress.finish();
-    Some(result)
+    Ok(result?)
 }
 
-/// Uploads the scene and renders on the GPU; `None` when cancelled before rendering started.
+/// Uploads the scene and renders on the GPU.
 fn render_wgpu(
     scene: &Scene,
     args: &RenderArgs,
     ctx: &GpuContext,
     bar: ProgressBar,
-    cancel: &AtomicBool,
-) -> Result<Option<RenderResult>> {
+    interrupt: &Interrupt,
+) -> Result<RenderResult> {
     let renderer = WgpuRenderer::new(scene, ctx)?;
     let [width, height] = scene.camera.resolution;
     let kernel = if args.generic { "generic kernel" } else { "specialized kernel" };
@@ -108,9 +115,7 @@ fn render_wgpu(
         scene.integrator.spp,
         scene.integrator.time_budget.map_or(String::new(), |t| format!(" or {t} s")),
     );
-    if cancel.load(Ordering::SeqCst) {
-        return Ok(None);
-    }
+    interrupt.set_phase(Phase::Rendering);
     let progress = RenderProgress::start(
         bar,
         scene.integrator.spp,
@@ -118,21 +123,26 @@ fn render_wgpu(
         scene.integrator.time_budget,
     );
     let on_progress = |p: Progress| progress.update(&p);
-    let control = RenderControl { cancel: Some(cancel), progress: Some(&on_progress) };
+    let control = RenderControl { cancel: Some(interrupt.cancel_flag()), progress: Some(&on_progress) };
     let options = RenderOptions { threads: 0, specialize: !args.generic };
     let result = renderer.render(&options, &control);
     progress.finish();
-    Ok(Some(result?))
+    Ok(result?)
+}
+
+/// Whether `err` says the scene or image does not fit the GPU's buffers.
+fn too_large_for_gpu(err: &anyhow::Error) -> bool {
+    err.chain().any(|c| matches!(c.downcast_ref::<GpuError>(), Some(GpuError::TooLarge { .. })))
 }
 
 /// The final line: time, spp, size, throughput, kernel variant, output.
-fn summary(result: &RenderResult, [width, height]: [u32; 2], output: &str) -> String {
+fn summary(result: &RenderResult, interrupted: bool, [width, height]: [u32; 2], output: &str) -> String {
     let secs = result.elapsed.as_secs_f64();
     // Always in M/s so that runs compare at a glance.
     let rate = |n: u64| if secs > 0.0 { format!("{:.2}", n as f64 / secs * 1e-6) } else { "-".to_owned() };
     format!(
         "{}: {secs:.3} s, {} spp, {width}x{height}, {} M camera samples/s, {} M rays/s, kernel {} -> {output}",
-        if result.interrupted { "interrupted" } else { "done" },
+        if interrupted { "interrupted" } else { "done" },
         result.spp,
         rate(result.camera_samples),
         rate(result.rays),

@@ -75,3 +75,48 @@ fn sigint_writes_the_partial_image_and_exits_130() {
     // The lit box is not black.
     assert!(png.to_rgb8().pixels().any(|p| p.0.iter().any(|&c| c > 0)));
 }
+
+#[test]
+fn sigterm_while_loading_exits_at_once() {
+    let dir = TempDir::new("interrupt-load");
+    // About two million triangles: seconds of tessellation and BVH building.
+    let mut text = String::from(
+        "[camera]\nposition = [0, 0, 30]\nlook_at = [0, 0, 0]\nresolution = [32, 24]\n\
+         [materials.white]\ntype = \"diffuse\"\nalbedo = [0.8, 0.8, 0.8]\n",
+    );
+    for i in 0..6 {
+        text += &format!(
+            "[[shapes]]\ntype = \"sphere\"\nmaterial = \"white\"\nsubdivisions = 7\ncenter = [{}, 0, 0]\n",
+            3 * i
+        );
+    }
+    let file = dir.path().join("heavy.toml");
+    std::fs::write(&file, text).unwrap();
+    let out = dir.path().join("heavy.png");
+    let mut child = Command::new(GGX)
+        .args(["render", file.to_str().unwrap(), "-o", out.to_str().unwrap(), "--spp", "1"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("ggx starts");
+    let pid = child.id();
+    let mut stderr = BufReader::new(child.stderr.take().unwrap());
+    let mut log = String::new();
+    while !log.contains("loading ") {
+        let mut line = String::new();
+        if stderr.read_line(&mut line).unwrap() == 0 {
+            break;
+        }
+        log += &line;
+    }
+    assert!(log.contains("loading "), "ggx did not start loading: {log}");
+    kill("-TERM", pid);
+    stderr.read_to_string(&mut log).unwrap();
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130), "{log}");
+    assert!(log.contains("interrupted before rendering started"), "{log}");
+    // Before the fix the signal was only noted: loading and the BVH build ran to the end and
+    // the render was announced first.
+    assert!(!log.lines().any(|l| l.starts_with("rendering ")), "{log}");
+    assert!(!out.exists());
+}
