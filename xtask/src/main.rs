@@ -9,9 +9,12 @@
 //! * `bench`: run time against error, the convergence study (see [`bench`]).
 //! * `stress [--quick] [--samples N]`: the numerical stability sweep of ggx-core's samplers
 //!   (see [`stress`]).
+//! * `fuzz [--cases N]`: the mutation tests of every file reader and ggx-core's contract with
+//!   a long budget (see [`fuzz`]).
 
 mod bench;
 mod diff;
+mod fuzz;
 mod render;
 mod stress;
 
@@ -31,7 +34,9 @@ const USAGE: &str = "usage: cargo xtask <command>
   bench [--quick] [...]          convergence study: error against time and spp per configuration;
                                  CSV, SVG plots and summary.md under target/xtask/bench/ (see --help)
   stress [--quick] [--samples N] numerical stress sweep of ggx-core's samplers: N samples per method
-                                 (default 1e8; --quick: 1e6); fails on any NaN/inf or invalid accepted sample";
+                                 (default 1e8; --quick: 1e6); fails on any NaN/inf or invalid accepted sample
+  fuzz [--cases N]               mutation tests of the scene, OBJ, HDR and EXR readers and ggx-core's
+                                 any-f32 contract with N cases each (default 20000; CI runs a short budget)";
 
 /// The crate that proves ggx-core builds without std. It must be built on its own: built
 /// together with crates that enable ggx-core's `std` feature, feature unification would
@@ -44,6 +49,7 @@ fn main() -> ExitCode {
         Some("ci") => ci(),
         Some("diff") => diff::run(&args[1..]),
         Some("bench") => bench::run(&args[1..]),
+        Some("fuzz") => fuzz::run(&args[1..]),
         Some("stress") => match stress::Options::parse(&args[1..]) {
             Ok(options) => stress::run(&options),
             Err(e) => {
