@@ -9,7 +9,7 @@ use std::process::Command;
 use std::time::Instant;
 
 /// Mutated files per reader by default.
-const DEFAULT_CASES: u64 = 20_000;
+const DEFAULT_CASES: u32 = 20_000;
 
 /// The test targets: (package, test file).
 const TARGETS: [(&str, &str); 3] = [("ggx-scene", "fuzz"), ("ggx-scene", "readers_fuzz"), ("ggx-core", "contract")];
@@ -22,7 +22,12 @@ pub fn run(args: &[String]) -> Result<(), String> {
         match arg.as_str() {
             "--cases" => {
                 let value = args.next().ok_or("fuzz: --cases needs a value")?;
-                cases = value.replace('_', "").parse().map_err(|_| format!("fuzz: `{value}` is not a case count"))?;
+                cases = value
+                    .replace('_', "")
+                    .parse()
+                    .ok()
+                    .filter(|&n: &u32| n > 0)
+                    .ok_or_else(|| format!("fuzz: `{value}` is not a case count in [1, {}]", u32::MAX))?;
             }
             a => return Err(format!("fuzz: unknown argument `{a}` (usage: cargo xtask fuzz [--cases N])")),
         }

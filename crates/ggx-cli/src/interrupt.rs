@@ -4,10 +4,12 @@
 //!   been rendered, so the process exits at once;
 //! * **rendering**: the first signal stops the render after the tiles in flight (it keeps
 //!   every completed pass and the image is still written), the second exits at once;
-//! * **writing**: the first signal lets the write finish (the image on disk is complete),
-//!   the second removes the temporary file being written and exits at once, leaving any old
+//! * **writing**: a first signal lets the write finish (the image on disk is complete); a
+//!   second removes the temporary file being written and exits at once, leaving any old
 //!   image untouched.
 //!
+//! Signals are counted over the whole run, as "press it again to quit now" promises: after
+//! a Ctrl-C that stopped the render, the next one quits even while the image is written.
 //! The exit code after a signal is always 130.
 
 use std::sync::Arc;

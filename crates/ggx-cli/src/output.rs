@@ -17,11 +17,17 @@ pub fn check(path: &Path, inputs: &[&Path]) -> Result<()> {
         Some(ext) => bail!("{shown}: unsupported output format `.{ext}` (supported: {supported})"),
         None => bail!("{shown}: the output file needs an extension ({supported})"),
     }
-    if let Some(input) = inputs.iter().find(|input| same_file(path, input)) {
-        bail!("{shown}: is the input {}; refusing to overwrite it", input.display());
-    }
+    check_not_input(path, inputs)?;
     ggx_film::check_output(path)?;
     Ok(())
+}
+
+/// Fails when `path` is one of `inputs` (the files a loaded scene reads).
+pub fn check_not_input(path: &Path, inputs: &[&Path]) -> Result<()> {
+    match inputs.iter().find(|input| same_file(path, input)) {
+        Some(input) => bail!("{}: is the input {}; refusing to overwrite it", path.display(), input.display()),
+        None => Ok(()),
+    }
 }
 
 /// Whether `a` and `b` name the same existing file (links followed).

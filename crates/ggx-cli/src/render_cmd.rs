@@ -32,7 +32,7 @@ pub fn run(args: &RenderArgs) -> Result<Outcome> {
     let mut scene = ggx_scene::load_scene_with(&args.scene, &limits)?;
     overrides::apply(&mut scene, args)?;
     let inputs: Vec<&std::path::Path> = scene.inputs.iter().map(PathBuf::as_path).collect();
-    output::check(&args.output, &inputs)?;
+    output::check_not_input(&args.output, &inputs)?;
     memory::check(&scene, &limits)?;
 
     let result = match device {
@@ -63,10 +63,11 @@ pub fn run(args: &RenderArgs) -> Result<Outcome> {
     // The error names the path and what failed.
     ggx_film::write_image(&args.output, width, height, &result.film.mean(), &options)?;
 
-    let interrupted = result.interrupted || interrupt.requested();
-    let line = summary(&result, interrupted, [width, height], &args.output.display().to_string());
+    // A signal that came while a complete image was written still ends with code 130, but
+    // the summary says what the image is.
+    let line = summary(&result, [width, height], &args.output.display().to_string());
     writeln!(std::io::stdout(), "{line}").context("cannot write to stdout")?;
-    Ok(if interrupted { Outcome::Interrupted } else { Outcome::Done })
+    Ok(if result.interrupted || interrupt.requested() { Outcome::Interrupted } else { Outcome::Done })
 }
 
 /// Builds the BVH and renders on the CPU.
@@ -136,13 +137,13 @@ fn too_large_for_gpu(err: &anyhow::Error) -> bool {
 }
 
 /// The final line: time, spp, size, throughput, kernel variant, output.
-fn summary(result: &RenderResult, interrupted: bool, [width, height]: [u32; 2], output: &str) -> String {
+fn summary(result: &RenderResult, [width, height]: [u32; 2], output: &str) -> String {
     let secs = result.elapsed.as_secs_f64();
     // Always in M/s so that runs compare at a glance.
     let rate = |n: u64| if secs > 0.0 { format!("{:.2}", n as f64 / secs * 1e-6) } else { "-".to_owned() };
     format!(
         "{}: {secs:.3} s, {} spp, {width}x{height}, {} M camera samples/s, {} M rays/s, kernel {} -> {output}",
-        if interrupted { "interrupted" } else { "done" },
+        if result.interrupted { "interrupted" } else { "done" },
         result.spp,
         rate(result.camera_samples),
         rate(result.rays),

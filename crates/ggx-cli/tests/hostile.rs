@@ -4,6 +4,9 @@
 mod support;
 
 use std::process::{Command, Output, Stdio};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
 
 use support::{GGX, TempDir, ggx, scene};
 
@@ -70,23 +73,6 @@ fn the_scene_is_never_overwritten_by_the_output() {
     assert_eq!(std::fs::read_to_string(&input).unwrap(), text);
 }
 
-#[cfg(unix)]
-#[test]
-fn a_symlinked_output_stays_a_link_and_keeps_the_target_mode() {
-    use std::os::unix::fs::PermissionsExt as _;
-    let dir = TempDir::new("symlink");
-    let target = dir.path().join("real.png");
-    std::fs::write(&target, b"old").unwrap();
-    std::fs::set_permissions(&target, std::fs::Permissions::from_mode(0o600)).unwrap();
-    let link = dir.path().join("link.png");
-    std::os::unix::fs::symlink(&target, &link).unwrap();
-    let out = render(&scene("furnace.toml"), &link, &[]);
-    assert_eq!(out.status.code(), Some(0), "{}", stderr_of(&out));
-    assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
-    assert_eq!(image::open(&target).unwrap().width(), 16);
-    assert_eq!(std::fs::metadata(&target).unwrap().permissions().mode() & 0o777, 0o600);
-}
-
 #[test]
 fn seeds_beyond_32_bits_are_refused() {
     let dir = TempDir::new("seed");
@@ -124,12 +110,22 @@ fn special_files_are_refused_at_once() {
         let child = Command::new(GGX).args(["info", input]).stdout(Stdio::null()).stderr(Stdio::piped()).spawn();
         let child = child.expect("ggx starts");
         let pid = child.id();
-        let watchdog = std::thread::spawn(move || {
-            std::thread::sleep(std::time::Duration::from_secs(60));
-            let _ = Command::new("kill").args(["-KILL", &pid.to_string()]).status();
-        });
+        let done = Arc::new(AtomicBool::new(false));
+        let watchdog = {
+            let done = Arc::clone(&done);
+            std::thread::spawn(move || {
+                for _ in 0..600 {
+                    if done.load(Ordering::SeqCst) {
+                        return;
+                    }
+                    std::thread::sleep(Duration::from_millis(100));
+                }
+                let _ = Command::new("kill").args(["-KILL", &pid.to_string()]).status();
+            })
+        };
         let out = child.wait_with_output().unwrap();
-        drop(watchdog);
+        done.store(true, Ordering::SeqCst);
+        watchdog.join().unwrap();
         assert_eq!(out.status.code(), Some(1), "{input}: {}", stderr_of(&out));
         assert!(stderr_of(&out).contains("not a regular file"), "{input}: {}", stderr_of(&out));
     }
@@ -189,8 +185,8 @@ fn auto_prefers_the_cpu_to_a_software_adapter() {
     let Some(out) = render_on("auto", &dir) else { return };
     let err = stderr_of(&out);
     assert_eq!(out.status.code(), Some(0), "{err}");
-    // CI's adapter is lavapipe, a software renderer: auto must render on the CPU.
-    if err.contains("llvmpipe") {
+    // A software adapter (device type Cpu, as CI's lavapipe): auto must render on the CPU.
+    if err.contains(", Cpu, ") {
         assert!(err.contains("is a software renderer: rendering on the CPU backend"), "{err}");
         assert!(err.contains("on the CPU:"), "{err}");
     }

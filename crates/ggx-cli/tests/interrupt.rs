@@ -11,6 +11,18 @@ use std::time::Duration;
 
 use support::{GGX, TempDir, scene};
 
+/// Reads `stderr` into `log` until a line contains `marker` (or the stream ends).
+fn read_until(stderr: &mut impl BufRead, log: &mut String, marker: &str) {
+    while !log.contains(marker) {
+        let mut line = String::new();
+        if stderr.read_line(&mut line).unwrap() == 0 {
+            break;
+        }
+        *log += &line;
+    }
+    assert!(log.contains(marker), "ggx never printed {marker:?}: {log}");
+}
+
 /// Sends `signal` (e.g. `-INT`) to process `pid` with the `kill` command.
 fn kill(signal: &str, pid: u32) {
     let status = Command::new("kill").args([signal, &pid.to_string()]).status().expect("kill runs");
@@ -49,14 +61,7 @@ fn sigint_writes_the_partial_image_and_exits_130() {
     // milliseconds, so after the pause some passes are done and many remain.
     let mut stderr = BufReader::new(child.stderr.take().unwrap());
     let mut log = String::new();
-    while !log.contains("rendering ") {
-        let mut line = String::new();
-        if stderr.read_line(&mut line).unwrap() == 0 {
-            break;
-        }
-        log += &line;
-    }
-    assert!(log.contains("rendering "), "ggx did not start rendering: {log}");
+    read_until(&mut stderr, &mut log, "rendering ");
     std::thread::sleep(Duration::from_millis(1500));
     kill("-INT", pid);
 
@@ -102,14 +107,7 @@ fn sigterm_while_loading_exits_at_once() {
     let pid = child.id();
     let mut stderr = BufReader::new(child.stderr.take().unwrap());
     let mut log = String::new();
-    while !log.contains("loading ") {
-        let mut line = String::new();
-        if stderr.read_line(&mut line).unwrap() == 0 {
-            break;
-        }
-        log += &line;
-    }
-    assert!(log.contains("loading "), "ggx did not start loading: {log}");
+    read_until(&mut stderr, &mut log, "loading ");
     kill("-TERM", pid);
     stderr.read_to_string(&mut log).unwrap();
     let status = child.wait().unwrap();

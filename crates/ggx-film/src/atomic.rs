@@ -42,16 +42,15 @@ where
     let target = resolve_target(path).map_err(|(action, e)| io_error(action, e))?;
     let existing = existing_file(&target).map_err(|(action, e)| io_error(action, e))?;
     let (dir, name) = split(&target).map_err(|(action, e)| io_error(action, e))?;
-    let (file, temp) = create_temp(dir, name)
+    let (file, guard) = create_temp(dir, name)
         .map_err(|e| io_error(format!("cannot create a temporary file in {}", dir.display()), e))?;
-
-    let guard = Pending::register(temp);
-    let mut writer = BufWriter::new(file);
-    write(&mut writer)?;
-    let file = writer.into_inner().map_err(|e| io_error("cannot write the image".into(), e.into_error()))?;
+    // Before any byte is written, so a private image is never readable by others meanwhile.
     if let Some(meta) = &existing {
         keep_mode_and_owner(&file, meta).map_err(|e| io_error("cannot give it the replaced file's mode".into(), e))?;
     }
+    let mut writer = BufWriter::new(file);
+    write(&mut writer)?;
+    let file = writer.into_inner().map_err(|e| io_error("cannot write the image".into(), e.into_error()))?;
     file.sync_all().map_err(|e| io_error("cannot flush the image to disk".into(), e))?;
     drop(file);
     fs::rename(guard.path(), &target)
@@ -69,10 +68,14 @@ pub(crate) fn check_replaceable(path: &Path) -> Result<(), OutputError> {
     let target = resolve_target(path).map_err(|(action, e)| io_error(action, e))?;
     existing_file(&target).map_err(|(action, e)| io_error(action, e))?;
     let (dir, name) = split(&target).map_err(|(action, e)| io_error(action, e))?;
-    let (file, temp) =
+    let (file, guard) =
         create_temp(dir, name).map_err(|e| io_error(format!("cannot create a file in {}", dir.display()), e))?;
     drop(file);
-    fs::remove_file(&temp).map_err(|e| io_error(format!("cannot remove the test file {}", temp.display()), e))
+    let removed = fs::remove_file(guard.path());
+    let probe = guard.path().display().to_string();
+    // Dropping the guard unregisters the probe (and retries the removal).
+    drop(guard);
+    removed.map_err(|e| io_error(format!("cannot remove the test file {probe}"), e))
 }
 
 /// Removes every temporary image file this process is writing. For a signal handler that
@@ -138,16 +141,21 @@ fn split(target: &Path) -> Result<(&Path, &OsStr), Failed> {
     Ok((dir, name))
 }
 
-/// Creates `dir/.<name>.tmp-<pid>-<counter>` exclusively, skipping names that already exist.
-fn create_temp(dir: &Path, name: &OsStr) -> io::Result<(File, PathBuf)> {
+/// Creates `dir/.<name>.tmp-<pid>-<counter>` exclusively, skipping names that already exist,
+/// and registers it (under the registry's lock, so a signal handler never misses it).
+fn create_temp(dir: &Path, name: &OsStr) -> io::Result<(File, Pending)> {
     let mut last = io::Error::from(ErrorKind::AlreadyExists);
     for _ in 0..MAX_ATTEMPTS {
         let mut temp_name = OsString::from(".");
         temp_name.push(name);
         temp_name.push(format!(".tmp-{}-{}", std::process::id(), COUNTER.fetch_add(1, Ordering::Relaxed)));
         let temp = dir.join(temp_name);
+        let mut pending = lock_pending();
         match OpenOptions::new().write(true).create_new(true).open(&temp) {
-            Ok(file) => return Ok((file, temp)),
+            Ok(file) => {
+                pending.push(temp.clone());
+                return Ok((file, Pending { temp, renamed: false }));
+            }
             Err(e) if e.kind() == ErrorKind::AlreadyExists => last = e,
             Err(e) => return Err(e),
         }
@@ -155,9 +163,9 @@ fn create_temp(dir: &Path, name: &OsStr) -> io::Result<(File, PathBuf)> {
     Err(last)
 }
 
-/// Gives `file` the permission bits of `replaced` and, where allowed, its owner and group.
+/// Gives `file` the owner and group of `replaced` where allowed, then its permission bits
+/// (in that order: a change of owner clears the set-id bits).
 fn keep_mode_and_owner(file: &File, replaced: &fs::Metadata) -> io::Result<()> {
-    file.set_permissions(replaced.permissions())?;
     #[cfg(unix)]
     {
         use std::os::unix::fs::MetadataExt as _;
@@ -168,7 +176,7 @@ fn keep_mode_and_owner(file: &File, replaced: &fs::Metadata) -> io::Result<()> {
             let _ = std::os::unix::fs::fchown(file, Some(replaced.uid()), Some(replaced.gid()));
         }
     }
-    Ok(())
+    file.set_permissions(replaced.permissions())
 }
 
 /// Makes the rename durable on Unix (best effort; directories cannot be opened on Windows).
@@ -188,11 +196,6 @@ struct Pending {
 }
 
 impl Pending {
-    fn register(temp: PathBuf) -> Self {
-        lock_pending().push(temp.clone());
-        Self { temp, renamed: false }
-    }
-
     fn path(&self) -> &Path {
         &self.temp
     }
@@ -231,14 +234,38 @@ mod tests {
     #[test]
     fn pending_temp_files_are_removed_on_request() {
         let dir = scratch("pending");
-        let (file, temp) = create_temp(&dir, OsStr::new("x.png")).unwrap();
+        let (file, guard) = create_temp(&dir, OsStr::new("x.png")).unwrap();
         drop(file);
-        let guard = Pending::register(temp.clone());
-        assert!(temp.exists());
+        let temp = guard.path().to_owned();
+        assert!(temp.exists() && lock_pending().contains(&temp), "created and registered");
         remove_pending_temp_files();
         assert!(!temp.exists());
         drop(guard);
         assert!(lock_pending().iter().all(|p| p != &temp));
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn the_mode_is_kept_before_any_byte_is_written() {
+        use std::io::Write as _;
+        use std::os::unix::fs::PermissionsExt as _;
+        let dir = scratch("mode");
+        let target = dir.join("private.png");
+        fs::write(&target, b"secret").unwrap();
+        fs::set_permissions(&target, fs::Permissions::from_mode(0o600)).unwrap();
+        write_atomically(&target, |out| {
+            let mode = out.get_ref().metadata().unwrap().permissions().mode() & 0o777;
+            assert_eq!(mode, 0o600, "the temporary file is private while it is written");
+            out.write_all(b"new").map_err(|e| OutputError::Io {
+                path: target.clone(),
+                action: "test".into(),
+                source: e,
+            })
+        })
+        .unwrap();
+        assert_eq!(fs::read(&target).unwrap(), b"new");
+        assert_eq!(fs::metadata(&target).unwrap().permissions().mode() & 0o777, 0o600);
         fs::remove_dir_all(&dir).unwrap();
     }
 

@@ -64,7 +64,7 @@ pub struct RenderResult {
 #[derive(Debug, Error)]
 pub enum RenderError {
     /// The film, or a buffer of the render loop, could not be allocated.
-    #[error("cannot allocate the {width}x{height} image ({} needed): {source}", ggx_scene::format_bytes(ggx_scene::film_bytes(*.width, *.height)))]
+    #[error("cannot allocate the {width}x{height} image: {source}")]
     Film {
         /// Image width.
         width: u32,

@@ -1,4 +1,5 @@
-//! [`WgpuRenderer`]: ggx-cpu's render loop on a wgpu adapter. Same pass schedule
+//! [`WgpuRenderer`]: the render loop of ggx-cpu on a wgpu adapter, through ggx-render's
+//! interface. Same pass schedule
 //! ([`ggx_render::pass_spp`]), same sample streams, same integrator; each pass is split
 //! into dispatches of at most [`DISPATCH_PATHS`] paths so that no dispatch runs long, and the
 //! per-pixel sums are read back after every pass and added to a [`Film`].
@@ -16,6 +17,11 @@ use std::time::Instant;
 
 /// Most camera paths (pixels times samples) one dispatch traces.
 pub const DISPATCH_PATHS: u64 = 1 << 18;
+/// Camera paths of the first dispatch; later ones are sized from the measured rate.
+const FIRST_DISPATCH_PATHS: u64 = 1 << 12;
+/// Wall time one dispatch aims at: short enough that the cancel flag, checked between
+/// dispatches, is honoured well within a second even on a software adapter.
+const DISPATCH_SECONDS: f64 = 0.1;
 /// Workgroup edge of `render` in `path_tracer.wgsl`.
 const WORKGROUP: u32 = 8;
 
@@ -51,7 +57,8 @@ impl<'a> WgpuRenderer<'a> {
     }
 
     /// Caps the camera paths of one dispatch (default [`DISPATCH_PATHS`]; at least one row is
-    /// dispatched). Smaller dispatches keep a slow adapter responsive; the image is the same.
+    /// dispatched). Below the cap, dispatches are sized to take about 0.1 s at the measured
+    /// rate, so that cancelling is prompt on any adapter; the image is the same for any split.
     pub fn with_dispatch_paths(mut self, paths: u64) -> Self {
         self.dispatch_paths = paths.max(1);
         self
@@ -68,7 +75,7 @@ impl<'a> WgpuRenderer<'a> {
     }
 
     /// Renders the scene's `spp` samples per pixel (or until its time budget or `cancel`,
-    /// checked between dispatches), in the passes of ggx-cpu. `options.threads` is ignored;
+    /// checked between dispatches), in ggx-render's passes. `options.threads` is ignored;
     /// `elapsed` excludes the pipeline compilation.
     pub fn render(&self, options: &RenderOptions, control: &RenderControl) -> Result<RenderResult, GpuError> {
         let variant = self.variant(options.specialize);
@@ -82,6 +89,8 @@ impl<'a> WgpuRenderer<'a> {
         let budget = time_budget(&self.settings);
         let mut film = new_film(width, height)?;
         let (mut done, mut k, mut rays, mut interrupted) = (0u32, 0u32, 0u64, false);
+        // Paths per dispatch, adapted to the adapter's speed (the image does not depend on it).
+        let mut paths = FIRST_DISPATCH_PATHS.min(self.dispatch_paths);
         'passes: while done < spp {
             let mut n = pass_spp(k).min(spp - done);
             if let Some(budget) = budget
@@ -94,15 +103,20 @@ impl<'a> WgpuRenderer<'a> {
                 }
                 n = n.min(fit as u32);
             }
-            let rows = (self.dispatch_paths / (u64::from(width) * u64::from(n))).clamp(1, u64::from(height)) as u32;
+            let row_paths = u64::from(width) * u64::from(n);
             let mut y0 = 0;
             while y0 < height {
                 if cancel.load(Ordering::Relaxed) {
                     interrupted = true;
                     break 'passes;
                 }
-                let params = Params { y0, rows: rows.min(height - y0), s0: done, s1: done + n, ..self.params };
+                let rows = (paths / row_paths).clamp(1, u64::from(height - y0)) as u32;
+                let params = Params { y0, rows, s0: done, s1: done + n, ..self.params };
+                let dispatch_start = Instant::now();
                 self.dispatch(&pipeline, &params)?;
+                let seconds = dispatch_start.elapsed().as_secs_f64().max(1e-6);
+                let rate = (u64::from(rows) * row_paths) as f64 / seconds;
+                paths = ((rate * DISPATCH_SECONDS) as u64).clamp(1, self.dispatch_paths);
                 y0 += rows;
             }
             let (sums, pass_rays) = self.read_back()?;

@@ -1,5 +1,5 @@
 //! The scene as the flat, `bytemuck::Pod` tables `path_tracer.wgsl` reads: BVH nodes and
-//! leaf-order triangles, shading normals, materials (ggx-cpu's precomputed [`Bsdf`]s), emitters,
+//! leaf-order triangles, shading normals, materials (ggx-render's precomputed [`Bsdf`]s), emitters,
 //! one `f32` table for the light and environment CDFs and texels, and the [`Params`] uniform.
 
 use crate::bvh_flat::{BvhNode, EMPTY_TREE, FlatBvh};
@@ -34,7 +34,7 @@ pub struct MaterialRecord {
 }
 
 impl MaterialRecord {
-    /// The record of a ggx-cpu BSDF and its emission.
+    /// The record of a ggx-render BSDF and its emission.
     pub fn new(bsdf: &Bsdf, emission: Vec3) -> MaterialRecord {
         let mut r = MaterialRecord::zeroed();
         r.emission = emission.to_array();

@@ -1,4 +1,4 @@
-// ggx path tracer, part 2: ggx-cpu's Bsdf (bsdf.rs), integrator (integrator.rs) and render
+// ggx path tracer, part 2: ggx-render's Bsdf (ggx-render/src/bsdf.rs), ggx-cpu's integrator (integrator.rs) and render
 // loop (render.rs), one thread per pixel. Expects ggx_core.wgsl and scene.wgsl in front of it.
 
 // Kernel variant, like ggx-cpu's const generics: features compiled out when the scene lacks them.
