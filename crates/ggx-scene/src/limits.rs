@@ -3,6 +3,7 @@
 //! --max-memory 32G`, …) and every refusal names the limit and the flag that raises it.
 
 use std::fmt;
+use std::fs::File;
 use std::io::Read as _;
 use std::path::Path;
 
@@ -183,23 +184,45 @@ impl std::error::Error for ReadError {}
 /// [`read_regular_file`] with an error that tells a file over the limit ([`ReadError::Limit`])
 /// from one that cannot be read ([`ReadError::Io`]); both display the same text.
 pub fn read_regular_file_or(path: &Path, what: &str, limit: Limit, limits: &Limits) -> Result<Vec<u8>, ReadError> {
+    read_regular_file_within(path, what, &[limit], limits)
+}
+
+/// [`read_regular_file_or`] that checks the file's size against each of `bounds` (e.g. the
+/// mesh size and the memory left), before reading and again after, and reads at most the
+/// smallest of them plus one byte.
+pub(crate) fn read_regular_file_within(
+    path: &Path,
+    what: &str,
+    bounds: &[Limit],
+    limits: &Limits,
+) -> Result<Vec<u8>, ReadError> {
     let shown = crate::shorten::short_path(path);
     let io = |e: &dyn fmt::Display| ReadError::Io(format!("{shown}: cannot read {what}: {e}"));
-    let meta = std::fs::metadata(path).map_err(|e| io(&e))?;
+    let (file, len) = open_regular(path).map_err(|e| io(&e))?;
+    let check = |size: u64| {
+        bounds.iter().try_for_each(|&l| limits.check(l, format!("{shown}: {what}"), size)).map_err(ReadError::Limit)
+    };
+    check(len)?;
+    let max = bounds.iter().map(|&l| limits.get(l)).min().unwrap_or(u64::MAX);
+    // The file may grow between the size check and the read: never read more than the limit.
+    let mut bytes = Vec::with_capacity(usize::try_from(len).unwrap_or(0));
+    file.take(max.saturating_add(1)).read_to_end(&mut bytes).map_err(|e| io(&e))?;
+    check(bytes.len() as u64)?;
+    Ok(bytes)
+}
+
+/// Opens `path` if it is a regular file and returns it with its size. A directory ("is a
+/// directory") or a FIFO (which could block forever), socket or device ("not a regular
+/// file") is refused before it is opened. The error is the reason alone, without the path.
+pub(crate) fn open_regular(path: &Path) -> Result<(File, u64), String> {
+    let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
     if meta.is_dir() {
-        return Err(io(&"is a directory"));
+        return Err("is a directory".into());
     }
     if !meta.is_file() {
-        return Err(io(&"not a regular file (a FIFO, socket or device)"));
+        return Err("not a regular file (a FIFO, socket or device)".into());
     }
-    let max = limits.get(limit);
-    limits.check(limit, format!("{shown}: {what}"), meta.len()).map_err(ReadError::Limit)?;
-    let file = std::fs::File::open(path).map_err(|e| io(&e))?;
-    // The file may grow between the size check and the read: never read more than the limit.
-    let mut bytes = Vec::with_capacity(usize::try_from(meta.len()).unwrap_or(0));
-    file.take(max.saturating_add(1)).read_to_end(&mut bytes).map_err(|e| io(&e))?;
-    limits.check(limit, format!("{shown}: {what}"), bytes.len() as u64).map_err(ReadError::Limit)?;
-    Ok(bytes)
+    Ok((File::open(path).map_err(|e| e.to_string())?, meta.len()))
 }
 
 #[cfg(test)]

@@ -173,9 +173,15 @@ impl GpuMaterial {
     }
 }
 
-/// Rec. 709 / sRGB relative luminance `Y = 0.2126 R + 0.7152 G + 0.0722 B`.
+/// Rec. 709 / sRGB relative luminance weights of R, G and B, in `f64` for the callers that
+/// compute in `f64` (environment map sampling weights); [`luminance`] rounds them to `f32`.
+pub const LUMINANCE_WEIGHTS: [f64; 3] = [0.2126, 0.7152, 0.0722];
+
+/// Rec. 709 / sRGB relative luminance `Y = 0.2126 R + 0.7152 G + 0.0722 B`
+/// ([`LUMINANCE_WEIGHTS`]).
 pub fn luminance(rgb: Vec3) -> f32 {
-    rgb.dot(Vec3::new(0.2126, 0.7152, 0.0722))
+    let [r, g, b] = LUMINANCE_WEIGHTS;
+    rgb.dot(Vec3::new(r as f32, g as f32, b as f32))
 }
 
 #[cfg(test)]
@@ -187,5 +193,10 @@ mod tests {
         assert_eq!(size_of::<GpuMaterial>(), 48);
         let m = Material::Plastic { alpha: 0.1, ior: 1.5, albedo: Vec3::splat(0.5) }.to_gpu();
         assert_eq!((m.kind, m.color[3], m.alpha), (GpuMaterial::PLASTIC, 1.5, [0.1, 0.1]));
+    }
+
+    #[test]
+    fn luminance_weights_round_to_the_f32_literals() {
+        assert_eq!(LUMINANCE_WEIGHTS.map(|w| w as f32), [0.2126f32, 0.7152, 0.0722]);
     }
 }

@@ -6,7 +6,7 @@ use toml::Spanned;
 use crate::check::{Interval, span_of};
 use crate::error::{ErrorKind, SceneError, Source};
 use crate::material::{ConductorFresnel, Material};
-use crate::radiance::MAX_RADIANCE;
+use crate::radiance::check_radiance;
 use crate::raw::{MaterialType, OneOrMany, RawMaterial};
 
 const UNIT: Interval = Interval::closed(0.0, 1.0);
@@ -64,13 +64,8 @@ pub(crate) fn build(src: Source<'_>, name: &str, raw: &RawMaterial) -> Result<Ma
         MaterialType::Emissive => {
             let r = raw.radiance.as_ref().ok_or_else(|| missing("`radiance`"))?;
             let radiance = Vec3::from(src.array(r, &field("radiance"), Interval::at_least(0.0))?);
-            if let Some(&c) = radiance.as_ref().iter().find(|&&c| c > MAX_RADIANCE) {
-                let msg = format!(
-                    "radiance {c:e} is over the largest radiance {MAX_RADIANCE:e} (radiance * throughput / pdf \
-                     must stay finite in f32)"
-                );
-                return Err(src.error(r.span(), &field("radiance"), ErrorKind::OutOfRange, msg));
-            }
+            check_radiance(radiance.to_array())
+                .map_err(|msg| src.error(r.span(), &field("radiance"), ErrorKind::OutOfRange, msg))?;
             if radiance == Vec3::ZERO {
                 let msg = "must be positive in at least one channel (use a black diffuse material for a black surface)";
                 return Err(src.error(r.span(), &field("radiance"), ErrorKind::OutOfRange, msg));

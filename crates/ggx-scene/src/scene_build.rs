@@ -10,14 +10,13 @@ use crate::error::{ErrorKind, SceneError, Source};
 use crate::features::SceneFeatures;
 use crate::integrator::IntegratorSettings;
 use crate::lights::{AreaLight, AreaLights};
-use crate::limits::{Limit, LimitError, Limits};
+use crate::limits::{LimitError, Limits};
 use crate::material::{Material, luminance};
 use crate::material_build;
-use crate::memory::{BYTES_PER_TRIANGLE, map_bytes, triangle_bytes};
 use crate::mesh::TriangleMesh;
 use crate::raw::RawScene;
 use crate::scene::Scene;
-use crate::shape_build;
+use crate::shape_build::{self, Budget};
 use crate::shorten::{short, short_list};
 
 /// Validates `raw` (parsed from `src`) into a [`Scene`]; relative files resolve against
@@ -25,7 +24,9 @@ use crate::shorten::{short, short_list};
 ///
 /// Every shape is validated and its triangles counted before any is tessellated, so a scene
 /// over [`Limits::max_triangles`] or [`Limits::max_memory`] fails at the shape that crosses
-/// the limit without allocating its triangles.
+/// the limit without allocating its triangles. Each mesh file is parsed once, within what
+/// the shapes before it leave of the limits, and its arrays count against `max_memory`; the
+/// environment map is loaded within what the triangles leave of `max_memory`.
 pub(crate) fn build(src: Source<'_>, raw: &RawScene, base_dir: &Path, limits: &Limits) -> Result<Scene, SceneError> {
     let camera = Camera::from_raw(src, &raw.camera)?;
     let integrator = IntegratorSettings::from_raw(src, raw.integrator.as_ref())?;
@@ -33,7 +34,7 @@ pub(crate) fn build(src: Source<'_>, raw: &RawScene, base_dir: &Path, limits: &L
     let materials =
         raw.materials.iter().map(|(name, m)| material_build::build(src, name, m)).collect::<Result<Vec<_>, _>>()?;
     let mut prepared = Vec::with_capacity(raw.shapes.len());
-    let mut triangles = 0u64;
+    let mut budget = Budget::new(limits);
     for (index, shape) in raw.shapes.iter().enumerate() {
         let name = shape.material.get_ref();
         let Some(material) = material_names.iter().position(|n| n == name) else {
@@ -41,12 +42,16 @@ pub(crate) fn build(src: Source<'_>, raw: &RawScene, base_dir: &Path, limits: &L
             let field = format!("shapes[{index}].material");
             return Err(src.error(shape.material.span(), &field, ErrorKind::UnknownMaterial, msg));
         };
-        let p = shape_build::prepare(src, index, shape, base_dir, limits)?;
-        triangles = triangles.saturating_add(p.triangles());
-        check_triangles(limits, index, p.triangles(), triangles)
-            .map_err(|e| src.error(shape.kind.span(), &format!("shapes[{index}]"), ErrorKind::Limit, e.to_string()))?;
+        let p = shape_build::prepare(src, index, shape, base_dir, &mut budget)?;
+        budget
+            .add_triangles(index, p.triangles())
+            .map_err(|msg| src.error(shape.kind.span(), &format!("shapes[{index}]"), ErrorKind::Limit, msg))?;
         prepared.push((p, material));
     }
+    // At most MAX_SCENE_TRIANGLES (u32::MAX): triangle, shape and shading normal indices fit
+    // in u32 below NO_INDEX.
+    let triangles = budget.triangles();
+    drop(budget);
     let mut mesh = TriangleMesh::default();
     if mesh.triangles.try_reserve_exact(usize::try_from(triangles).unwrap_or(usize::MAX)).is_err() {
         let msg = format!("cannot allocate memory for {triangles} triangles");
@@ -88,7 +93,7 @@ pub(crate) fn build(src: Source<'_>, raw: &RawScene, base_dir: &Path, limits: &L
     let environment = match &raw.environment {
         None => None,
         Some(e) => {
-            let env = environment::build(src, e, base_dir, limits)?;
+            let env = environment::build(src, e, base_dir, limits, triangles)?;
             check_scene_memory(limits, triangles, &env)
                 .map_err(|m| src.error(e.kind.span(), "environment", ErrorKind::Limit, m.to_string()))?;
             Some(env)
@@ -117,21 +122,12 @@ fn inputs(raw: &RawScene, base_dir: &Path) -> Vec<PathBuf> {
     meshes.chain(map).map(|f| base_dir.join(f.get_ref())).collect()
 }
 
-/// Checks the running triangle count `total` (shapes `0..=index`, `this` of them in shape
-/// `index`) and its memory against `limits`.
-fn check_triangles(limits: &Limits, index: usize, this: u64, total: u64) -> Result<(), LimitError> {
-    let shapes = if index == 0 { "shape 0".to_owned() } else { format!("shapes 0 to {index}") };
-    limits.check(Limit::Triangles, format!("the triangles of {shapes} (this one: {this})"), total)?;
-    let what = format!("{total} triangles of {shapes} (mesh, shading normals and BVH at {BYTES_PER_TRIANGLE} B each)");
-    limits.check(Limit::Memory, what, triangle_bytes(total))
-}
-
-/// Checks the memory of `triangles` triangles and the environment map of `env` together.
+/// Checks the memory of `triangles` triangles and the environment map of `env` together
+/// (the map was loaded within what the triangles leave, so this holds unless the two
+/// estimates disagree).
 fn check_scene_memory(limits: &Limits, triangles: u64, env: &Environment) -> Result<(), LimitError> {
     let Environment::Map(map) = env else { return Ok(()) };
-    let (w, h) = (map.width, map.height);
-    let bytes = triangle_bytes(triangles).saturating_add(map_bytes(u64::from(w) * u64::from(h)));
-    limits.check(Limit::Memory, format!("{triangles} triangles and a {w}x{h} environment map"), bytes)
+    environment::check_with_triangles(limits, triangles, map.width, map.height)
 }
 
 fn defined(names: &[String]) -> String {

@@ -12,8 +12,13 @@ pub(crate) const MAX_ECHO_CHARS: usize = 40;
 /// Most characters of a file path that a message shows.
 const MAX_PATH_CHARS: usize = 256;
 
-/// Most bytes of a whole message (after its quoted parts are shortened) or field path.
+/// Most bytes of a whole message (after its quoted parts are shortened) that a message shows
+/// before `… (N bytes)`.
 const MAX_MESSAGE_BYTES: usize = 1024;
+
+/// Most bytes of a field path (after its segments are shortened) that a message shows before
+/// `… (N bytes)`.
+const MAX_FIELD_BYTES: usize = 256;
 
 /// Most names a list in a message shows before `… and N more`.
 const MAX_LISTED: usize = 16;
@@ -39,6 +44,16 @@ pub(crate) fn short_path(path: &std::path::Path) -> String {
     cut(&path.to_string_lossy(), MAX_PATH_CHARS).into_owned()
 }
 
+/// `text` cut to its first `max` bytes (less, to end on a character boundary), with
+/// `… (N bytes)` appended when it was cut.
+fn cut_bytes(text: &str, max: usize) -> Cow<'_, str> {
+    if text.len() <= max {
+        return Cow::Borrowed(text);
+    }
+    let end = (0..=max).rev().find(|&i| text.is_char_boundary(i)).unwrap_or(0);
+    Cow::Owned(format!("{}… ({} bytes)", &text[..end], text.len()))
+}
+
 /// `text` cut after `max` characters, with `… (N bytes)` appended when it was cut.
 fn cut(text: &str, max: usize) -> Cow<'_, str> {
     match text.char_indices().nth(max) {
@@ -48,8 +63,8 @@ fn cut(text: &str, max: usize) -> Cow<'_, str> {
 }
 
 /// Shortens every part of `message` quoted with backticks or double quotes (how `toml` and
-/// this crate quote keys, names and values) and then the message as a whole to
-/// [`MAX_MESSAGE_BYTES`].
+/// this crate quote keys, names and values) and then cuts the message as a whole to its first
+/// [`MAX_MESSAGE_BYTES`] bytes (on a character boundary) followed by `… (N bytes)`.
 pub(crate) fn short_message(message: &str) -> String {
     let mut out = String::with_capacity(message.len().min(MAX_MESSAGE_BYTES + 64));
     let mut rest = message;
@@ -70,13 +85,17 @@ pub(crate) fn short_message(message: &str) -> String {
         }
     }
     out.push_str(rest);
-    if out.len() > MAX_MESSAGE_BYTES { cut(&out, MAX_MESSAGE_BYTES / 4).into_owned() } else { out }
+    match cut_bytes(&out, MAX_MESSAGE_BYTES) {
+        Cow::Borrowed(_) => out,
+        Cow::Owned(cut) => cut,
+    }
 }
 
-/// Shortens each dotted segment of a field path such as `materials.NAME.albedo`.
+/// Shortens each dotted segment of a field path such as `materials.NAME.albedo`, then cuts
+/// the path to its first [`MAX_FIELD_BYTES`] bytes followed by `… (N bytes)`.
 pub(crate) fn short_field(field: &str) -> String {
     let joined = field.split('.').map(short).collect::<Vec<_>>().join(".");
-    if joined.len() > MAX_MESSAGE_BYTES { cut(&joined, MAX_MESSAGE_BYTES / 4).into_owned() } else { joined }
+    cut_bytes(&joined, MAX_FIELD_BYTES).into_owned()
 }
 
 /// `names` joined by `, `, each shortened, at most [`MAX_LISTED`] of them, then `… and N more`.
@@ -109,7 +128,13 @@ mod tests {
         assert_eq!(msg, format!("unknown field `{}… (1000 bytes)`, expected one of `a`, `b`", "x".repeat(40)));
         let msg = short_message(&format!("unknown material \"{key}"));
         assert!(msg.len() < 100, "{msg}");
-        assert!(short_message(&"y ".repeat(10_000)).len() < MAX_MESSAGE_BYTES);
+        let long = "y ".repeat(10_000);
+        assert_eq!(short_message(&long), format!("{}… (20000 bytes)", &long[..MAX_MESSAGE_BYTES]));
+        let wide = "é".repeat(1000);
+        let cut = short_message(&wide);
+        assert!(cut.starts_with(&"é".repeat(MAX_MESSAGE_BYTES / 2)) && cut.ends_with("… (2000 bytes)"), "{cut}");
+        let dotted = "a.".repeat(1000);
+        assert_eq!(short_field(&dotted), format!("{}… (2000 bytes)", &dotted[..MAX_FIELD_BYTES]));
         assert_eq!(short_field(&format!("materials.{key}.albedo")), format!("materials.{}.albedo", short(&key)));
         let names: Vec<String> = (0..20).map(|i| i.to_string()).collect();
         assert!(short_list(&names).ends_with("15, … and 4 more"));

@@ -4,6 +4,8 @@
 //! Each property runs `GGX_FUZZ_CASES` cases (default [`DEFAULT_CASES`], about ten seconds in
 //! the dev profile); `cargo xtask fuzz` sets a long budget.
 
+mod fuzz_cases;
+
 use std::path::{Path, PathBuf};
 
 use ggx_scene::{Limits, parse_scene, parse_scene_with};
@@ -16,14 +18,6 @@ const DEFAULT_CASES: u32 = 4096;
 
 /// Longest error message accepted: user text is echoed in short form.
 const MAX_MESSAGE_BYTES: usize = 2048;
-
-/// Cases per property: `GGX_FUZZ_CASES`, else [`DEFAULT_CASES`].
-fn fuzz_cases() -> u32 {
-    match std::env::var("GGX_FUZZ_CASES") {
-        Ok(v) => v.trim().parse().unwrap_or_else(|_| panic!("GGX_FUZZ_CASES must be a number of cases, got {v:?}")),
-        Err(_) => DEFAULT_CASES,
-    }
-}
 
 /// Small limits that mutated scenes can cross: scene text, triangles, memory, map pixels.
 fn small_limits() -> Limits {
@@ -288,7 +282,7 @@ fn parse_ok_or_located(text: &str) -> Result<(), TestCaseError> {
 
 proptest! {
     #![proptest_config(ProptestConfig {
-        cases: fuzz_cases(),
+        cases: fuzz_cases::fuzz_cases(DEFAULT_CASES),
         rng_seed: proptest::test_runner::RngSeed::Fixed(0x6767_7873),
         failure_persistence: None,
         ..ProptestConfig::default()

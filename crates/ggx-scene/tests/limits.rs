@@ -8,6 +8,12 @@ use ggx_scene::{
     load_scene, load_scene_with, parse_scene_with,
 };
 
+/// `HEADER` and `count` mesh shapes that all name `file`.
+fn meshes(count: usize, file: &str) -> String {
+    let shape = format!("\n[[shapes]]\ntype = \"mesh\"\nmaterial = \"white\"\nfile = \"{file}\"\n");
+    format!("{HEADER}{}", shape.repeat(count))
+}
+
 const FILE: &str = "scenes/test.toml";
 
 const HEADER: &str = "[camera]\nposition = [0, 1, 3.5]\nlook_at = [0, 1, 0]\nresolution = [64, 32]\n\n\
@@ -137,4 +143,72 @@ fn environment_map_and_triangles_share_the_memory_limit() {
     assert_eq!((estimate.map_texels, estimate.map_bytes), (256 * 128, map));
     assert_eq!((estimate.film_pixels, estimate.film_bytes), (64 * 32, 64 * 32 * FILM_BYTES_PER_PIXEL));
     assert_eq!(estimate.total(), triangles + map + estimate.film_bytes);
+}
+
+#[test]
+fn mesh_vertices_count_against_memory_before_the_mesh_is_parsed() {
+    // 200 000 vertices and one triangle: 1.6 MB of text and 14 MB of parse buffers, over
+    // 8 MiB, though its one triangle per shape (400 B) is far below it.
+    let dir = tmp_dir("mesh_vertices");
+    let mut obj = "v 0 0 0\n".repeat(200_000);
+    obj.push_str("f 1 2 3\n");
+    std::fs::write(dir.join("many.obj"), &obj).unwrap();
+    let text = meshes(100, "many.obj");
+    let limits = Limits { max_memory: 8 << 20, ..Limits::default() };
+    let err = match parse_scene_with(&text, FILE, &dir, &limits) {
+        Ok(_) => panic!("a mesh whose vertices need more than max_memory was loaded"),
+        Err(e) => e,
+    };
+    let shown = err.to_string();
+    let (line, column) = nth_position(&text, "\"many.obj\"", 0);
+    assert!(shown.starts_with(&format!("{FILE}:{line}:{column}: shapes[0].file: ")), "{shown}");
+    assert!(shown.contains("many.obj: mesh of 200000 vertex and 1 face lines"), "{shown}");
+    assert!(shown.contains("over the limit of 8.0 MiB (max_memory; raise it with --max-memory)"), "{shown}");
+    assert_eq!(err.kind(), ErrorKind::Limit);
+}
+
+#[test]
+fn shapes_that_name_one_mesh_share_it() {
+    // 1000 triangles with their own vertices: 48 KB of parsed mesh. Ten shapes of it need
+    // 10 x 400 KB for their triangles and the mesh once; a copy per shape would not fit.
+    let dir = tmp_dir("shared_mesh");
+    let mut obj = String::new();
+    for i in 0..1000 {
+        obj.push_str(&format!("v {i} 0 0\nv {i} 1 0\nv {i} 0 1\nf {} {} {}\n", 3 * i + 1, 3 * i + 2, 3 * i + 3));
+    }
+    std::fs::write(dir.join("grid.obj"), &obj).unwrap();
+    let text = meshes(10, "grid.obj");
+    let limits = Limits { max_memory: 10 * 1000 * BYTES_PER_TRIANGLE + 200_000, ..Limits::default() };
+    let scene = parse_scene_with(&text, FILE, &dir, &limits).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(scene.mesh.triangles.len(), 10_000);
+    // The memory of the mesh counts: without it, these triangles alone fit.
+    let limits = Limits { max_memory: 10 * 1000 * BYTES_PER_TRIANGLE + 1000, ..Limits::default() };
+    let err = match parse_scene_with(&text, FILE, &dir, &limits) {
+        Ok(_) => panic!("the parsed mesh was not counted"),
+        Err(e) => e,
+    };
+    assert!(err.to_string().contains("and their meshes ("), "{err}");
+    assert_eq!(err.kind(), ErrorKind::Limit);
+}
+
+#[test]
+fn environment_map_is_read_within_what_the_triangles_leave() {
+    // 20 480 triangles take 7.8 MiB; a 64x32 map needs 56 KiB and more for its decoder. With
+    // 1000 bytes left, the map is refused while its header is read, before its texels are
+    // allocated, naming the file.
+    let dir = tmp_dir("map_after_triangles");
+    exr::prelude::write_rgba_file(dir.join("sky.exr"), 64, 32, |_, _| (1.0f32, 1.0, 1.0, 1.0)).unwrap();
+    let text = format!("{}\n[environment]\ntype = \"map\"\nfile = \"sky.exr\"\n", spheres(1, 5));
+    let triangles = 20 * 4u64.pow(5) * BYTES_PER_TRIANGLE;
+    let limits = Limits { max_memory: triangles + 1000, ..Limits::default() };
+    let err = match parse_scene_with(&text, FILE, &dir, &limits) {
+        Ok(_) => panic!("expected an error"),
+        Err(e) => e,
+    };
+    let shown = err.to_string();
+    assert_eq!(err.field(), "environment.file", "{shown}");
+    assert!(shown.contains("sky.exr: environment map 64x32 needs"), "{shown}");
+    assert!(shown.contains("what the 20480 triangles (7.8 MiB) leave of 7.8 MiB"), "{shown}");
+    let limits = Limits { max_memory: triangles + (1 << 20), ..Limits::default() };
+    parse_scene_with(&text, FILE, &dir, &limits).unwrap_or_else(|e| panic!("{e}"));
 }

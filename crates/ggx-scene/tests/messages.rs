@@ -116,3 +116,26 @@ fn a_device_or_fifo_as_a_mesh_is_not_a_regular_file() {
         assert!(err.to_string().ends_with("not a regular file (a FIFO, socket or device)"), "{err}");
     }
 }
+
+#[test]
+fn long_mesh_and_map_paths_are_cut_and_the_reason_kept() {
+    // A 3000-character path (many `./`), within PATH_MAX: the message shows its first 256
+    // characters and still says what is wrong with the file.
+    let dir = tmp_dir("long_paths");
+    std::fs::write(dir.join("empty.obj"), "# no faces\n").unwrap();
+    std::fs::write(dir.join("bad.exr"), "not an OpenEXR file").unwrap();
+    let long = |name: &str| format!("{}{name}", "./".repeat(1500));
+    let mesh = format!(
+        "{CAMERA}[materials.m]\ntype = \"diffuse\"\nalbedo = [1, 1, 1]\n[[shapes]]\ntype = \"mesh\"\nmaterial = \"m\"\n\
+         file = \"{}\"\n",
+        long("empty.obj")
+    );
+    let map = format!("{CAMERA}[environment]\ntype = \"map\"\nfile = \"{}\"\n", long("bad.exr"));
+    for (text, reason) in [(mesh, "the mesh has no triangles"), (map, "invalid OpenEXR header")] {
+        let err = parse_err(&text, &dir);
+        let shown = err.to_string();
+        assert!(shown.len() < SHORT, "{} bytes: {shown}", shown.len());
+        assert!(shown.contains(reason) && shown.contains(" bytes): "), "{shown}");
+        assert_eq!(err.kind(), ErrorKind::File, "{shown}");
+    }
+}

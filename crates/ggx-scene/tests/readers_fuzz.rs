@@ -11,6 +11,7 @@
 //!
 //! `GGX_FUZZ_CASES` sets the number of cases per target (default [`DEFAULT_CASES`]).
 
+mod fuzz_cases;
 mod readers_support;
 
 use std::path::{Path, PathBuf};
@@ -37,8 +38,10 @@ const SMALL: Limits = Limits {
     max_memory: 32 << 20,
 };
 
+/// Cases per target: `GGX_FUZZ_CASES` (a value that is not a number stops the test), else
+/// [`DEFAULT_CASES`].
 fn cases() -> u32 {
-    std::env::var("GGX_FUZZ_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(DEFAULT_CASES)
+    fuzz_cases::fuzz_cases(DEFAULT_CASES)
 }
 
 fn config() -> ProptestConfig {
@@ -282,6 +285,20 @@ fn hdr_larger_than_image_default_limit_loads() {
     let limits = Limits { max_map_pixels: 40_000_000, ..Limits::default() };
     let msg = load_image(&path, &limits).unwrap_err();
     assert!(msg.contains("6700x6700") && msg.contains("max_map_pixels"), "{msg}");
+}
+
+#[test]
+fn texels_that_cannot_be_allocated_are_an_error() {
+    // A 16384 x 16384 map (4 GiB of texels) allowed by raised limits, read under the 1 GiB
+    // address-space cap: the allocation fails and the reader says so instead of aborting.
+    if !cfg!(target_os = "linux") || ran_capped("texels_that_cannot_be_allocated_are_an_error") {
+        return;
+    }
+    let path = test_dir("texels_alloc").join("huge.hdr");
+    std::fs::write(&path, b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 16384 +X 16384\n").unwrap();
+    let limits = Limits { max_map_pixels: u64::MAX, max_memory: u64::MAX, ..Limits::default() };
+    let msg = load_image(&path, &limits).unwrap_err();
+    assert!(msg.contains("cannot allocate 4.0 GiB for 268435456 texels"), "{msg}");
 }
 
 #[test]

@@ -9,21 +9,34 @@ use super::map::TexelError;
 use super::{EnvMap, Environment, load_image, sky, studio};
 use crate::check::{Interval, span_of};
 use crate::error::{ErrorKind, SceneError, Source};
-use crate::limits::Limits;
-use crate::radiance::MAX_RADIANCE;
+use crate::limits::{Limit, LimitError, Limits, format_bytes};
+use crate::memory::{MemoryEstimate, triangle_bytes};
+use crate::radiance::{MAX_RADIANCE, check_radiance};
 use crate::raw::{EnvironmentType, ProceduralPreset, RawEnvironment};
+use crate::shorten::short_path;
 
 /// Largest procedural map width; the height limit is half of it.
 pub const MAX_PROCEDURAL_WIDTH: u32 = 4096;
 
-/// Validates `[environment]`; map files are resolved relative to `base_dir` and read within
-/// `limits`. Radiance, after `scale`, must be at most [`MAX_RADIANCE`] per channel.
+/// Checks the memory of `triangles` triangles and a `width x height` environment map
+/// together against `limits.max_memory` ([`MemoryEstimate`] without the film).
+pub(crate) fn check_with_triangles(limits: &Limits, triangles: u64, width: u32, height: u32) -> Result<(), LimitError> {
+    let bytes = MemoryEstimate::new(triangles, u64::from(width) * u64::from(height), [0, 0]).total();
+    limits.check(Limit::Memory, format!("{triangles} triangles and a {width}x{height} environment map"), bytes)
+}
+
+/// Validates `[environment]` of a scene with `triangles` triangles (already allocated); map
+/// files are resolved relative to `base_dir` and read within `limits`, less the memory of the
+/// triangles. Radiance, after `scale`, must be at most [`MAX_RADIANCE`] per channel.
 pub(crate) fn build(
     src: Source<'_>,
     raw: &RawEnvironment,
     base_dir: &Path,
     limits: &Limits,
+    triangles: u64,
 ) -> Result<Environment, SceneError> {
+    let taken = triangle_bytes(triangles);
+    let left = Limits { max_memory: limits.max_memory.saturating_sub(taken), ..*limits };
     let field = |key: &str| format!("environment.{key}");
     let (type_name, allowed): (_, &[&str]) = match raw.kind.get_ref() {
         EnvironmentType::Constant => ("constant", &["radiance"]),
@@ -49,11 +62,8 @@ pub(crate) fn build(
         EnvironmentType::Constant => {
             let r = raw.radiance.as_ref().ok_or_else(|| missing("radiance"))?;
             let radiance = src.array(r, &field("radiance"), Interval::at_least(0.0))?;
-            if let Some(&c) = radiance.iter().find(|&&c| c > MAX_RADIANCE) {
-                let msg =
-                    format!("radiance {c:e} is over the largest radiance {MAX_RADIANCE:e} (paths would overflow f32)");
-                return Err(src.error(r.span(), &field("radiance"), ErrorKind::OutOfRange, msg));
-            }
+            check_radiance(radiance)
+                .map_err(|msg| src.error(r.span(), &field("radiance"), ErrorKind::OutOfRange, msg))?;
             return Ok(Environment::Constant(Vec3::from(radiance)));
         }
         EnvironmentType::Map => {
@@ -61,9 +71,20 @@ pub(crate) fn build(
             let path = base_dir.join(file.get_ref());
             let file_error = |msg: String| src.error(file.span(), &field("file"), ErrorKind::File, msg);
             if !path.exists() {
-                return Err(file_error(format!("environment map not found: {}", path.display())));
+                return Err(file_error(format!("environment map not found: {}", short_path(&path))));
             }
-            let (w, h, texels) = load_image(&path, limits).map_err(file_error)?;
+            let (w, h, texels) = load_image(&path, &left).map_err(|msg| {
+                // The limit in the message is what the triangles leave of max_memory: say so.
+                if taken > 0 && msg.contains(Limit::Memory.field()) {
+                    let max = format_bytes(limits.max_memory);
+                    file_error(format!(
+                        "{msg}: what the {triangles} triangles ({}) leave of {max}",
+                        format_bytes(taken)
+                    ))
+                } else {
+                    file_error(msg)
+                }
+            })?;
             (w, h, texels, file.span(), "file")
         }
         EnvironmentType::Procedural => {
@@ -82,6 +103,8 @@ pub(crate) fn build(
             };
             let msg = |e: String| src.error(preset.span(), &field("preset"), ErrorKind::OutOfRange, e);
             check_size(u64::from(w), u64::from(h), 0, limits).map_err(msg)?;
+            check_with_triangles(limits, triangles, w, h)
+                .map_err(|e| src.error(raw.kind.span(), "environment", ErrorKind::Limit, e.to_string()))?;
             let texels = match preset.get_ref() {
                 ProceduralPreset::Sky => sky(w, h),
                 ProceduralPreset::Studio => studio(w, h),
@@ -91,7 +114,7 @@ pub(crate) fn build(
     };
     EnvMap::try_new(width, height, texels, scale, rotation).map(Environment::Map).map_err(|e| {
         let msg = match &raw.file {
-            Some(f) => format!("{}: {e}", base_dir.join(f.get_ref()).display()),
+            Some(f) => format!("{}: {e}", short_path(&base_dir.join(f.get_ref()))),
             None => format!("procedural map: {e}"),
         };
         match (&e, &raw.scale) {

@@ -14,7 +14,7 @@ use exr::meta::attribute::SampleType;
 use exr::meta::header::Header;
 use exr::prelude::f16;
 
-use super::load::{Texels, check_size};
+use super::load::{Texels, alloc_texels, check_size};
 use crate::limits::Limits;
 
 /// Copies of one block that decoding holds at once: the compressed bytes, the decompressed
@@ -97,7 +97,7 @@ fn decode(reader: BufReader<File>, layer: usize, width: u32, height: u32, pixels
         .filter_chunks(false, |_, tile, block| block.layer == layer && tile.level_index == Vec2(0, 0))
         .map_err(invalid)?;
     let meta = chunks.meta_data().clone();
-    let mut texels = vec![[0.0f32, 0.0, 0.0, 1.0]; pixels];
+    let mut texels = alloc_texels(pixels, [0.0, 0.0, 0.0, 1.0])?;
     for chunk in chunks {
         let chunk = chunk.map_err(invalid)?;
         if chunk.layer_index != layer {

@@ -9,7 +9,7 @@ use image::ImageDecoder as _;
 use image::codecs::hdr::HdrDecoder;
 
 use super::MAX_MAP_SIZE;
-use super::load::{Texels, check_size};
+use super::load::{Texels, alloc_texels, check_size};
 use crate::limits::Limits;
 
 /// Longest accepted header (signature, attribute lines, blank line and dimension line).
@@ -45,7 +45,7 @@ pub(super) fn read_hdr(mut file: File, limits: &Limits) -> Result<Texels, String
     image_limits.max_image_height = Some(MAX_MAP_SIZE);
     image_limits.max_alloc = Some(limits.max_memory);
     decoder.set_limits(image_limits).map_err(|e| format!("invalid Radiance HDR file: {e}"))?;
-    let mut texels = vec![[0.0f32; 4]; pixels];
+    let mut texels = alloc_texels(pixels, [0.0; 4])?;
     let rgb_bytes = decoder.total_bytes();
     let bytes: &mut [u8] = bytemuck::cast_slice_mut(&mut texels);
     let rgb = usize::try_from(rgb_bytes).ok().and_then(|n| bytes.get_mut(..n)).ok_or("decoded size mismatch")?;

@@ -7,7 +7,8 @@ use std::path::Path;
 
 use super::exr_file::read_exr;
 use super::hdr_file::read_hdr;
-use crate::limits::{Limit, Limits};
+use crate::limits::{Limit, Limits, open_regular};
+use crate::shorten::short_path;
 
 /// Largest accepted map width or height.
 pub const MAX_MAP_SIZE: u32 = 16384;
@@ -24,32 +25,19 @@ pub(crate) type Texels = (u32, u32, Vec<[f32; 4]>);
 /// ([`crate::BYTES_PER_TEXEL`] per pixel) and the decoder's buffers at most
 /// `limits.max_memory`. Errors start with the path.
 pub fn load_image(path: &Path, limits: &Limits) -> Result<(u32, u32, Vec<[f32; 4]>), String> {
-    let shown = path.display();
+    let shown = short_path(path);
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     let read: fn(File, &Limits) -> Result<Texels, String> = match ext.as_deref() {
         Some("hdr") => read_hdr,
         Some("exr") => read_exr,
         _ => return Err(format!("{shown}: unsupported environment map format (use .hdr or .exr)")),
     };
-    let file = open_regular(path).map_err(|e| format!("{shown}: cannot read environment map: {e}"))?;
+    let (file, _) = open_regular(path).map_err(|e| format!("{shown}: cannot read environment map: {e}"))?;
     let (w, h, texels) = read(file, limits).map_err(|e| format!("{shown}: {e}"))?;
     if texels.len() as u64 != u64::from(w) * u64::from(h) {
         return Err(format!("{shown}: decoded {} texels for a {w}x{h} map", texels.len()));
     }
     Ok((w, h, texels))
-}
-
-/// Opens `path` if it is a regular file; a directory, FIFO (which could block forever),
-/// socket or device is refused before it is opened.
-fn open_regular(path: &Path) -> Result<File, String> {
-    let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
-    if meta.is_dir() {
-        return Err("is a directory".into());
-    }
-    if !meta.is_file() {
-        return Err("not a regular file (a FIFO, socket or device)".into());
-    }
-    File::open(path).map_err(|e| e.to_string())
 }
 
 /// Checks a declared map size before its pixels are allocated: each side in
@@ -74,4 +62,28 @@ pub(crate) fn check_size(
     let pixels = usize::try_from(pixels).map_err(|_| format!("size {width}x{height} does not fit in memory"))?;
     // Both sides are at most MAX_MAP_SIZE, so they fit in u32.
     Ok((width as u32, height as u32, pixels))
+}
+
+/// `pixels` texels of value `fill`, allocated without aborting: when the memory cannot be
+/// reserved (`--max-memory` raised past what the machine has), an error names the size.
+pub(crate) fn alloc_texels(pixels: usize, fill: [f32; 4]) -> Result<Vec<[f32; 4]>, String> {
+    let mut texels = Vec::new();
+    texels.try_reserve_exact(pixels).map_err(|_| {
+        let bytes = (pixels as u64).saturating_mul(size_of::<[f32; 4]>() as u64);
+        format!("cannot allocate {} for {pixels} texels", crate::format_bytes(bytes))
+    })?;
+    texels.resize(pixels, fill);
+    Ok(texels)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn texels_that_cannot_be_allocated_are_an_error() {
+        assert_eq!(alloc_texels(2, [0.0, 0.0, 0.0, 1.0]).unwrap(), vec![[0.0, 0.0, 0.0, 1.0]; 2]);
+        let msg = alloc_texels(usize::MAX / 16, [0.0; 4]).unwrap_err();
+        assert!(msg.starts_with("cannot allocate ") && msg.contains(" texels"), "{msg}");
+    }
 }

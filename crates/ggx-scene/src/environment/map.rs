@@ -8,7 +8,8 @@ use glam::{Quat, Vec2, Vec3};
 
 use super::{direction_to_uv, uv_to_direction};
 use crate::distribution::Distribution2D;
-use crate::radiance::MAX_RADIANCE;
+use crate::material::LUMINANCE_WEIGHTS;
+use crate::radiance::{MAX_RADIANCE, OVER_MAX_RADIANCE};
 
 /// An equirectangular environment map (see the module docs for the convention).
 ///
@@ -72,7 +73,7 @@ impl fmt::Display for TexelError {
             Self::TooBright { col, row, value, scaled } => write!(
                 f,
                 "texel ({col}, {row}) has radiance {value:e}, which times the scale is {scaled:e}, over the \
-                 largest radiance {MAX_RADIANCE:e} (paths would overflow f32)"
+                 largest radiance {MAX_RADIANCE:e} ({OVER_MAX_RADIANCE})"
             ),
         }
     }
@@ -109,8 +110,7 @@ impl EnvMap {
             .enumerate()
             .map(|(i, t)| {
                 let sin_theta = (std::f64::consts::PI * ((i / w) as f64 + 0.5) / f64::from(height)).sin();
-                let [r, g, b] = [t[0], t[1], t[2]].map(f64::from);
-                let luminance = 0.2126 * r + 0.7152 * g + 0.0722 * b;
+                let luminance: f64 = LUMINANCE_WEIGHTS.iter().zip(t).map(|(w, &c)| w * f64::from(c)).sum();
                 (luminance * sin_theta).min(f64::from(f32::MAX)) as f32
             })
             .collect();

@@ -17,7 +17,7 @@ use std::f32::consts::{FRAC_1_PI, PI, TAU};
 use glam::{Vec2, Vec3};
 
 pub use build::MAX_PROCEDURAL_WIDTH;
-pub(crate) use build::build;
+pub(crate) use build::{build, check_with_triangles};
 pub use load::{MAX_MAP_SIZE, load_image};
 pub use map::EnvMap;
 pub use procedural::{sky, studio};

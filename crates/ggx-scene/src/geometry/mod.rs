@@ -35,4 +35,13 @@ impl Geometry {
             })
             .sum()
     }
+
+    /// Bytes that the vertex, normal and index arrays hold (their capacity).
+    pub(crate) fn heap_bytes(&self) -> u64 {
+        let vec3 = size_of::<Vec3>() as u64;
+        let positions = self.positions.capacity() as u64 * vec3;
+        let normals = self.normals.as_ref().map_or(0, |n| n.capacity() as u64 * vec3);
+        let indices = self.indices.capacity() as u64 * size_of::<[u32; 3]>() as u64;
+        positions.saturating_add(normals).saturating_add(indices)
+    }
 }

@@ -6,20 +6,58 @@ use std::path::Path;
 use glam::Vec3;
 
 use super::Geometry;
-use crate::limits::{Limit, Limits, read_regular_file};
+use crate::limits::{Limit, Limits, ReadError, read_regular_file_within};
+use crate::shorten::short_path;
+
+/// Bytes `tobj` may hold per `v`, `vn` or `vt` line while it parses: up to six `f32` (a
+/// position and a vertex colour) in vectors that grow by doubling, so up to three times
+/// that while one is reallocated.
+///
+/// These three bounds are upper bounds from `tobj`'s record sizes, checked against a
+/// measurement (2026-12-01, `/usr/bin/time -v` on the dev `ggx info`): an OBJ of 1 M `v`
+/// lines and 1 M triangle faces peaks 326 MB above an empty scene, BVH included, where
+/// the bounds allow 600 MB for the parse alone.
+pub(crate) const OBJ_BYTES_PER_VERTEX_LINE: u64 = 3 * 24;
+
+/// Bytes `tobj` may hold per `f` or `l` line while it parses: a 104-byte face record in a
+/// vector that grows by doubling (three times that while it is reallocated).
+pub(crate) const OBJ_BYTES_PER_FACE_LINE: u64 = 3 * 104;
+
+/// Bytes `tobj` may hold per vertex of an `f` or `l` line while it parses: its 24-byte index
+/// triple, in the line's own vector (three times that while it is reallocated).
+pub(crate) const OBJ_BYTES_PER_FACE_VERTEX: u64 = 3 * 24;
 
 /// Parses OBJ text into one triangle mesh. Faces are fan-triangulated; vertex normals are
 /// kept when every vertex has one. Material libraries are ignored. Errors on indices out of
-/// range, non-finite positions and meshes without triangles, and on more triangles than
-/// [`Limits::default`] allows.
+/// range, non-finite positions and meshes without triangles, and on more triangles or
+/// memory than [`Limits::default`] allows.
 pub fn parse_obj(text: &str) -> Result<Geometry, String> {
     parse_obj_with_limits(text, &Limits::default())
 }
 
-/// [`parse_obj`] that refuses meshes with more than `limits.max_triangles` triangles, counted
-/// from the face lines before anything is built.
+/// [`parse_obj`] within `limits`, checked from the text before anything is built: the
+/// triangles that its face lines make against `limits.max_triangles`, and the text and the
+/// parser's buffers (per `v`, `vn`, `vt`, `f` and `l` line and face vertex) against
+/// `limits.max_memory`.
 pub fn parse_obj_with_limits(text: &str, limits: &Limits) -> Result<Geometry, String> {
-    limits.check(Limit::Triangles, "mesh", count_triangles(text)).map_err(|e| e.to_string())?;
+    parse_obj_checked(text, limits).map_err(|e| e.to_string())
+}
+
+/// [`parse_obj_with_limits`] with an error that tells a mesh over `limits`
+/// ([`ReadError::Limit`]) from an invalid one ([`ReadError::Io`]).
+pub(crate) fn parse_obj_checked(text: &str, limits: &Limits) -> Result<Geometry, ReadError> {
+    let counts = LineCounts::of(text);
+    limits.check(Limit::Triangles, "mesh", counts.triangles).map_err(ReadError::Limit)?;
+    let what = format!(
+        "mesh of {} vertex and {} face lines (its text and parse buffers)",
+        counts.vertex_lines, counts.face_lines
+    );
+    limits.check(Limit::Memory, what, counts.parse_bytes(text.len() as u64)).map_err(ReadError::Limit)?;
+    parse_obj_unchecked(text).map_err(ReadError::Io)
+}
+
+/// Parses `text` without checking it against any limit.
+fn parse_obj_unchecked(text: &str) -> Result<Geometry, String> {
     let options = tobj::LoadOptions { single_index: true, triangulate: true, ignore_points: true, ignore_lines: true };
     let (models, _) = tobj::load_obj_buf(&mut Cursor::new(text), &options, |_| Err(tobj::LoadError::OpenFileFailed))
         .map_err(|e| format!("invalid OBJ: {e}"))?;
@@ -56,23 +94,63 @@ pub fn parse_obj_with_limits(text: &str, limits: &Limits) -> Result<Geometry, St
     Ok(g)
 }
 
-/// Triangles that fan triangulation makes of the face (`f`) lines of `text`: `n - 2` per
-/// face of `n` vertices.
-fn count_triangles(text: &str) -> u64 {
-    text.lines()
-        .filter_map(|line| line.trim_start().strip_prefix('f'))
-        .filter(|rest| rest.starts_with(char::is_whitespace))
-        .map(|rest| (rest.split_whitespace().count() as u64).saturating_sub(2))
-        .sum()
+/// What the lines of an OBJ text make, counted before it is parsed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct LineCounts {
+    /// `v`, `vn` and `vt` lines.
+    vertex_lines: u64,
+    /// `f` and `l` lines.
+    face_lines: u64,
+    /// Vertices of the `f` and `l` lines.
+    face_vertices: u64,
+    /// Triangles that fan triangulation makes of the `f` lines: `n - 2` per face of `n`
+    /// vertices.
+    triangles: u64,
+}
+
+impl LineCounts {
+    /// Counts the lines of `text` by their first word, as `tobj` reads them.
+    fn of(text: &str) -> Self {
+        let mut counts = Self::default();
+        for line in text.lines() {
+            let mut words = line.split_whitespace();
+            match words.next() {
+                Some("v" | "vn" | "vt") => counts.vertex_lines += 1,
+                Some(kind @ ("f" | "l")) => {
+                    let vertices = words.count() as u64;
+                    counts.face_lines += 1;
+                    counts.face_vertices += vertices;
+                    if kind == "f" {
+                        counts.triangles += vertices.saturating_sub(2);
+                    }
+                }
+                _ => {}
+            }
+        }
+        counts
+    }
+
+    /// Memory of parsing: `text_bytes` of text and the parser's buffers.
+    fn parse_bytes(&self, text_bytes: u64) -> u64 {
+        text_bytes
+            .saturating_add(self.vertex_lines.saturating_mul(OBJ_BYTES_PER_VERTEX_LINE))
+            .saturating_add(self.face_lines.saturating_mul(OBJ_BYTES_PER_FACE_LINE))
+            .saturating_add(self.face_vertices.saturating_mul(OBJ_BYTES_PER_FACE_VERTEX))
+    }
 }
 
 /// Reads and parses the OBJ file at `path`: a regular file of at most
-/// `limits.max_mesh_bytes` and `limits.max_triangles` triangles. Errors name the path.
-pub(crate) fn load_obj(path: &Path, limits: &Limits) -> Result<Geometry, String> {
-    let bytes = read_regular_file(path, "mesh", Limit::MeshBytes, limits)?;
+/// `limits.max_mesh_bytes` and `limits.max_memory` bytes, then [`parse_obj_checked`]. Errors
+/// name the path (shortened).
+pub(crate) fn load_obj(path: &Path, limits: &Limits) -> Result<Geometry, ReadError> {
+    let shown = short_path(path);
+    let bytes = read_regular_file_within(path, "mesh", &[Limit::MeshBytes, Limit::Memory], limits)?;
     let text = std::str::from_utf8(&bytes)
-        .map_err(|e| format!("{}: cannot read mesh: not UTF-8 text ({e})", path.display()))?;
-    parse_obj_with_limits(text, limits).map_err(|e| format!("{}: {e}", path.display()))
+        .map_err(|e| ReadError::Io(format!("{shown}: cannot read mesh: not UTF-8 text ({e})")))?;
+    parse_obj_checked(text, limits).map_err(|e| match e {
+        ReadError::Io(m) => ReadError::Io(format!("{shown}: {m}")),
+        ReadError::Limit(e) => ReadError::Limit(crate::LimitError { what: format!("{shown}: {}", e.what), ..e }),
+    })
 }
 
 #[cfg(test)]
@@ -96,10 +174,25 @@ mod tests {
 
     #[test]
     fn triangles_are_counted_before_the_mesh_is_built() {
-        let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n  f\t1 2 3\nfoo 1 2 3\nf 1 2\n";
-        assert_eq!(count_triangles(text), 3);
+        let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n  f\t1 2 3\nfoo 1 2 3\nf 1 2\nl 1 2\nvn 0 0 1\n";
+        let counts = LineCounts::of(text);
+        let expected = LineCounts { vertex_lines: 5, face_lines: 4, face_vertices: 11, triangles: 3 };
+        assert_eq!(counts, expected);
         let limits = Limits { max_triangles: 2, ..Limits::default() };
         let msg = parse_obj_with_limits(text, &limits).unwrap_err();
         assert!(msg.contains("needs 3, over the limit of 2") && msg.contains("--max-triangles"), "{msg}");
+    }
+
+    #[test]
+    fn vertex_lines_count_against_memory_before_parsing() {
+        // A million vertices and one face: one triangle, but 72 MB of parse buffers.
+        let mut text = "v 0 0 0\n".repeat(1_000_000);
+        text.push_str("f 1 2 3\n");
+        let needed = text.len() as u64 + 1_000_000 * OBJ_BYTES_PER_VERTEX_LINE + OBJ_BYTES_PER_FACE_LINE + 3 * 24 * 3;
+        let limits = Limits { max_memory: needed - 1, ..Limits::default() };
+        let msg = parse_obj_with_limits(&text, &limits).unwrap_err();
+        assert!(msg.contains("mesh of 1000000 vertex and 1 face lines") && msg.contains("max_memory"), "{msg}");
+        let limits = Limits { max_memory: needed, ..Limits::default() };
+        assert_eq!(parse_obj_with_limits(&text, &limits).unwrap().indices.len(), 1);
     }
 }
