@@ -4,11 +4,8 @@
 mod support;
 
 use std::process::{Command, Output, Stdio};
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Duration;
 
-use support::{GGX, TempDir, ggx, scene};
+use support::{GGX, TempDir, Watchdog, ggx, scene};
 
 fn stderr_of(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
@@ -109,23 +106,9 @@ fn special_files_are_refused_at_once() {
         // Without a writer, opening the FIFO would block forever: the watchdog kills ggx then.
         let child = Command::new(GGX).args(["info", input]).stdout(Stdio::null()).stderr(Stdio::piped()).spawn();
         let child = child.expect("ggx starts");
-        let pid = child.id();
-        let done = Arc::new(AtomicBool::new(false));
-        let watchdog = {
-            let done = Arc::clone(&done);
-            std::thread::spawn(move || {
-                for _ in 0..600 {
-                    if done.load(Ordering::SeqCst) {
-                        return;
-                    }
-                    std::thread::sleep(Duration::from_millis(100));
-                }
-                let _ = Command::new("kill").args(["-KILL", &pid.to_string()]).status();
-            })
-        };
+        let watchdog = Watchdog::new(child.id(), 60);
         let out = child.wait_with_output().unwrap();
-        done.store(true, Ordering::SeqCst);
-        watchdog.join().unwrap();
+        drop(watchdog);
         assert_eq!(out.status.code(), Some(1), "{input}: {}", stderr_of(&out));
         assert!(stderr_of(&out).contains("not a regular file"), "{input}: {}", stderr_of(&out));
     }

@@ -5,11 +5,9 @@ mod support;
 
 use std::io::{BufRead, BufReader, Read};
 use std::process::{Command, Stdio};
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
-use support::{GGX, TempDir, scene};
+use support::{GGX, TempDir, Watchdog, scene};
 
 /// Reads `stderr` into `log` until a line contains `marker` (or the stream ends).
 fn read_until(stderr: &mut impl BufRead, log: &mut String, marker: &str) {
@@ -43,19 +41,7 @@ fn sigint_writes_the_partial_image_and_exits_130() {
     let pid = child.id();
 
     // Whatever happens, the child does not outlive the test by long.
-    let done = Arc::new(AtomicBool::new(false));
-    let watchdog = {
-        let done = Arc::clone(&done);
-        std::thread::spawn(move || {
-            for _ in 0..1200 {
-                if done.load(Ordering::SeqCst) {
-                    return;
-                }
-                std::thread::sleep(Duration::from_millis(100));
-            }
-            let _ = Command::new("kill").args(["-KILL", &pid.to_string()]).status();
-        })
-    };
+    let watchdog = Watchdog::new(pid, 120);
 
     // The handler is installed before "rendering ..." is printed; a 64x48 pass takes
     // milliseconds, so after the pause some passes are done and many remain.
@@ -69,8 +55,7 @@ fn sigint_writes_the_partial_image_and_exits_130() {
     let mut stdout = String::new();
     child.stdout.take().unwrap().read_to_string(&mut stdout).unwrap();
     let status = child.wait().unwrap();
-    done.store(true, Ordering::SeqCst);
-    watchdog.join().unwrap();
+    drop(watchdog);
 
     assert_eq!(status.code(), Some(130), "stdout: {stdout}\nstderr: {log}");
     assert!(log.contains("interrupted after "), "{log}");
@@ -105,12 +90,14 @@ fn sigterm_while_loading_exits_at_once() {
         .spawn()
         .expect("ggx starts");
     let pid = child.id();
+    let watchdog = Watchdog::new(pid, 120);
     let mut stderr = BufReader::new(child.stderr.take().unwrap());
     let mut log = String::new();
     read_until(&mut stderr, &mut log, "loading ");
     kill("-TERM", pid);
     stderr.read_to_string(&mut log).unwrap();
     let status = child.wait().unwrap();
+    drop(watchdog);
     assert_eq!(status.code(), Some(130), "{log}");
     assert!(log.contains("interrupted before rendering started"), "{log}");
     // Before the fix the signal was only noted: loading and the BVH build ran to the end and
