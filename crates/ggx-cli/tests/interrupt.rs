@@ -21,6 +21,42 @@ fn read_until(stderr: &mut impl BufRead, log: &mut String, marker: &str) {
     assert!(log.contains(marker), "ggx never printed {marker:?}: {log}");
 }
 
+/// A running `ggx render` whose stderr is read as it comes, watched by a [`Watchdog`].
+struct Running {
+    child: std::process::Child,
+    stderr: BufReader<std::process::ChildStderr>,
+    log: String,
+    watchdog: Watchdog,
+}
+
+impl Running {
+    /// Starts `ggx args` with both outputs piped.
+    fn start(args: &[&str]) -> Self {
+        let mut child =
+            Command::new(GGX).args(args).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().expect("ggx starts");
+        let watchdog = Watchdog::new(child.id(), 120);
+        let stderr = BufReader::new(child.stderr.take().expect("stderr is piped"));
+        Self { child, stderr, log: String::new(), watchdog }
+    }
+
+    /// Waits until stderr shows `marker`, then sends `signal` (e.g. `-INT`).
+    fn signal_after(&mut self, marker: &str, pause: Duration, signal: &str) {
+        read_until(&mut self.stderr, &mut self.log, marker);
+        std::thread::sleep(pause);
+        kill(signal, self.child.id());
+    }
+
+    /// Waits for the exit: (exit code, stdout, stderr).
+    fn finish(mut self) -> (Option<i32>, String, String) {
+        self.stderr.read_to_string(&mut self.log).unwrap();
+        let mut stdout = String::new();
+        self.child.stdout.take().expect("stdout is piped").read_to_string(&mut stdout).unwrap();
+        let status = self.child.wait().unwrap();
+        drop(self.watchdog);
+        (status.code(), stdout, self.log)
+    }
+}
+
 /// Sends `signal` (e.g. `-INT`) to process `pid` with the `kill` command.
 fn kill(signal: &str, pid: u32) {
     let status = Command::new("kill").args([signal, &pid.to_string()]).status().expect("kill runs");
@@ -31,33 +67,27 @@ fn kill(signal: &str, pid: u32) {
 fn sigint_writes_the_partial_image_and_exits_130() {
     let dir = TempDir::new("interrupt");
     let path = dir.path().join("partial.png");
-    let mut child = Command::new(GGX)
-        .args(["render", &scene("cornell.toml"), "-o", path.to_str().unwrap()])
-        .args(["--spp", "1000000", "--width", "64", "--height", "48", "--threads", "1"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("ggx starts");
-    let pid = child.id();
-
-    // Whatever happens, the child does not outlive the test by long.
-    let watchdog = Watchdog::new(pid, 120);
-
+    let scene = scene("cornell.toml");
+    let mut ggx = Running::start(&[
+        "render",
+        &scene,
+        "-o",
+        path.to_str().unwrap(),
+        "--spp",
+        "1000000",
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--threads",
+        "1",
+    ]);
     // The handler is installed before "rendering ..." is printed; a 64x48 pass takes
     // milliseconds, so after the pause some passes are done and many remain.
-    let mut stderr = BufReader::new(child.stderr.take().unwrap());
-    let mut log = String::new();
-    read_until(&mut stderr, &mut log, "rendering ");
-    std::thread::sleep(Duration::from_millis(1500));
-    kill("-INT", pid);
+    ggx.signal_after("rendering ", Duration::from_millis(1500), "-INT");
+    let (code, stdout, log) = ggx.finish();
 
-    stderr.read_to_string(&mut log).unwrap();
-    let mut stdout = String::new();
-    child.stdout.take().unwrap().read_to_string(&mut stdout).unwrap();
-    let status = child.wait().unwrap();
-    drop(watchdog);
-
-    assert_eq!(status.code(), Some(130), "stdout: {stdout}\nstderr: {log}");
+    assert_eq!(code, Some(130), "stdout: {stdout}\nstderr: {log}");
     assert!(log.contains("interrupted after "), "{log}");
     assert!(stdout.starts_with("interrupted: "), "{stdout}");
     let png = image::open(&path).unwrap_or_else(|e| panic!("{}: {e}\n{log}", path.display()));
@@ -83,22 +113,10 @@ fn sigterm_while_loading_exits_at_once() {
     let file = dir.path().join("heavy.toml");
     std::fs::write(&file, text).unwrap();
     let out = dir.path().join("heavy.png");
-    let mut child = Command::new(GGX)
-        .args(["render", file.to_str().unwrap(), "-o", out.to_str().unwrap(), "--spp", "1"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("ggx starts");
-    let pid = child.id();
-    let watchdog = Watchdog::new(pid, 120);
-    let mut stderr = BufReader::new(child.stderr.take().unwrap());
-    let mut log = String::new();
-    read_until(&mut stderr, &mut log, "loading ");
-    kill("-TERM", pid);
-    stderr.read_to_string(&mut log).unwrap();
-    let status = child.wait().unwrap();
-    drop(watchdog);
-    assert_eq!(status.code(), Some(130), "{log}");
+    let mut ggx = Running::start(&["render", file.to_str().unwrap(), "-o", out.to_str().unwrap(), "--spp", "1"]);
+    ggx.signal_after("loading ", Duration::ZERO, "-TERM");
+    let (code, _, log) = ggx.finish();
+    assert_eq!(code, Some(130), "{log}");
     assert!(log.contains("interrupted before rendering started"), "{log}");
     // Before the fix the signal was only noted: loading and the BVH build ran to the end and
     // the render was announced first.
