@@ -26,7 +26,7 @@ pub mod scene_upload;
 
 pub use context::{GpuContext, GpuError, GpuOptions};
 pub use gpu_scene::{Variant, path_tracer_wgsl};
-pub use parity::{Bound, Contract, ParityReport, ProbeReport, RowReport, run_parity};
+pub use parity::{Bound, Contract, GroupReport, ParityReport, ProbeReport, RowReport, Witness, run_parity};
 pub use renderer::{DISPATCH_PATHS, WgpuRenderer};
 
 /// WGSL source of the ggx-core mirror: constants, structs and functions, no entry points and

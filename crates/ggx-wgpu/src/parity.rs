@@ -1,7 +1,10 @@
 //! The parity harness: every function of `ggx_core.wgsl` runs on the GPU over input tables
-//! built here, and its outputs are compared with ggx-core on the CPU.
+//! built here, and its outputs are compared with ggx-core on the CPU word by word, each group
+//! of output words (a direction, a colour, a pdf, flags) under its own [`Bound`] and
+//! [`Contract`].
 
 use std::fmt::{self, Write as _};
+use std::ops::Range;
 use std::sync::mpsc;
 
 use bytemuck::Zeroable as _;
@@ -42,30 +45,25 @@ const CHUNK: usize = 1 << 15;
 /// `@workgroup_size` of the kernel.
 const WORKGROUP: usize = 64;
 
-/// Tolerance for floating-point outputs: a GPU value `g` matches the CPU value `c` when both
-/// are NaN, or both are the same infinity, or both are finite with `ulp(g, c) <= ulps`,
-/// `|g - c| <= abs` or `|g - c| < f32::MIN_POSITIVE` (Vulkan lets an adapter flush subnormals).
+/// Tolerance for one output word. Integer words (flags, sequences, layout) are always held to
+/// [`Bound::Exact`]: the same bits. A float word `g` from the GPU matches ggx-core's `c` when
+/// both are NaN, or both are the same infinity, or both are finite and within the bound, or
+/// `|g - c| < f32::MIN_POSITIVE` (Vulkan lets an adapter flush subnormals).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Bound {
-    /// Largest accepted distance in units in the last place.
-    pub ulps: u64,
-    /// Largest accepted absolute difference (for outputs that cancel).
-    pub abs: f32,
+pub enum Bound {
+    /// Bit-identical (up to the sign of zero, the NaN payload and flushed subnormals).
+    Exact,
+    /// At most this many units in the last place apart: a relative bound (one ulp is 2^-24 to
+    /// 2^-23 of the value) with no absolute escape, for values of any magnitude.
+    Ulps(u64),
+    /// At most `.0` ulps apart or at most `.1` apart: for unit vectors and values in [-1, 1]
+    /// whose small components come out of a cancellation, where only the absolute error is
+    /// meaningful.
+    UlpsOrAbs(u64, f32),
 }
 
 impl Bound {
-    /// Bit-identical (up to the sign of zero, the NaN payload and flushed subnormals).
-    pub const EXACT: Bound = Bound { ulps: 0, abs: 0.0 };
-
-    const fn ulps(ulps: u64) -> Bound {
-        Bound { ulps, abs: 0.0 }
-    }
-
-    const fn mixed(ulps: u64, abs: f32) -> Bound {
-        Bound { ulps, abs }
-    }
-
-    /// Whether `gpu` matches `cpu`.
+    /// Whether the float `gpu` matches ggx-core's `cpu`.
     pub fn accepts(&self, gpu: f32, cpu: f32) -> bool {
         if gpu.is_nan() || cpu.is_nan() {
             return gpu.is_nan() && cpu.is_nan();
@@ -74,16 +72,22 @@ impl Bound {
             return gpu == cpu;
         }
         let diff = (gpu - cpu).abs();
-        ulp_distance(gpu, cpu) <= self.ulps || diff <= self.abs || diff < f32::MIN_POSITIVE
+        let ulps = ulp_distance(gpu, cpu);
+        diff < f32::MIN_POSITIVE
+            || match *self {
+                Bound::Exact => ulps == 0,
+                Bound::Ulps(n) => ulps <= n,
+                Bound::UlpsOrAbs(n, abs) => ulps <= n || diff <= abs,
+            }
     }
 }
 
 impl fmt::Display for Bound {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match (self.ulps, self.abs) {
-            (0, 0.0) => write!(f, "exact"),
-            (u, 0.0) => write!(f, "{u} ulp"),
-            (u, a) => write!(f, "{u} ulp|{a:.0e} abs"),
+        match *self {
+            Bound::Exact => write!(f, "exact"),
+            Bound::Ulps(n) => write!(f, "{n} ulp"),
+            Bound::UlpsOrAbs(n, abs) => write!(f, "{n} ulp|{abs:.0e} abs"),
         }
     }
 }
@@ -97,41 +101,101 @@ fn ulp_distance(a: f32, b: f32) -> u64 {
     (key(a) - key(b)).unsigned_abs()
 }
 
-/// Result of one function: how far the GPU was from ggx-core.
+/// A case behind a maximum or a failure, for the log.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Witness {
+    /// Index of the case in the row's input table.
+    pub case: usize,
+    /// Index of the output word.
+    pub word: usize,
+    /// The word's name, the inputs and every output word of the case on both sides.
+    pub text: String,
+}
+
+/// How far one group of output words of a function (a direction, a colour, a pdf, flags) was
+/// from ggx-core, against its own bound.
+#[derive(Clone, Debug)]
+pub struct GroupReport {
+    /// The words' name (`wi`, `pdf`, `value`).
+    pub name: &'static str,
+    /// Which output words.
+    pub words: Range<usize>,
+    /// The tolerance the words are held to.
+    pub bound: Bound,
+    /// What ggx-core promises about the words; `None` for words compared bit for bit as
+    /// integers (flags, sequences, layout).
+    pub contract: Option<Contract>,
+    /// Largest ULP distance (`u64::MAX` for a NaN mismatch or an integer word that differs).
+    pub max_ulp: u64,
+    /// Largest relative error `|g - c| / |c|` over finite, non-zero CPU values.
+    pub max_rel: f64,
+    /// Largest absolute error over finite values.
+    pub max_abs: f64,
+    /// The cases behind `max_ulp`, `max_rel` and `max_abs` (`None` while the maximum is 0).
+    pub at_max: [Option<Witness>; 3],
+    /// Words outside the bound (or integer words that differ), plus, under
+    /// [`Contract::Finite`], words that are NaN or infinite on either side.
+    pub failures: usize,
+    /// The worst failing word (largest ULP distance).
+    pub worst: Option<Witness>,
+    /// NaN words on the GPU and on the CPU.
+    pub nan: (usize, usize),
+    /// Infinite words on the GPU and on the CPU.
+    pub inf: (usize, usize),
+}
+
+impl GroupReport {
+    fn new(name: &'static str, words: Range<usize>, bound: Bound, contract: Option<Contract>) -> Self {
+        GroupReport {
+            name,
+            words,
+            bound,
+            contract,
+            max_ulp: 0,
+            max_rel: 0.0,
+            max_abs: 0.0,
+            at_max: [None, None, None],
+            failures: 0,
+            worst: None,
+            nan: (0, 0),
+            inf: (0, 0),
+        }
+    }
+
+    /// No failure, no NaN where ggx-core has none, and under [`Contract::Finite`] no NaN or
+    /// infinity at all.
+    pub fn passed(&self) -> bool {
+        let finite = self.nan == (0, 0) && self.inf == (0, 0);
+        self.failures == 0 && self.nan.0 <= self.nan.1 && (finite || self.contract != Some(Contract::Finite))
+    }
+}
+
+/// Result of one function: how far each group of its output words was from ggx-core.
 #[derive(Clone, Debug)]
 pub struct RowReport {
     /// WGSL function name (the ggx-core function it mirrors has the same name).
     pub name: &'static str,
     /// Number of input cases.
     pub cases: usize,
-    /// Largest ULP distance over the floating-point outputs (`u64::MAX` for a NaN mismatch).
-    pub max_ulp: u64,
-    /// Largest relative error `|g - c| / |c|` over finite, non-zero CPU outputs.
-    pub max_rel: f64,
-    /// Largest absolute error over finite outputs.
-    pub max_abs: f64,
-    /// The tolerance the row is held to.
-    pub bound: Bound,
-    /// Whether the floating-point outputs must be finite; `None` for a row whose outputs are
-    /// all compared bit for bit as words (sequences, layout).
-    pub contract: Option<Contract>,
-    /// Outputs outside the bound (or integer words that differ), plus, under
-    /// [`Contract::Finite`], outputs that are NaN or infinite on either side.
-    pub failures: usize,
-    /// NaN outputs on the GPU and on the CPU.
-    pub nan: (usize, usize),
-    /// Infinite outputs on the GPU and on the CPU.
-    pub inf: (usize, usize),
-    /// The worst failing case, for the log.
-    pub worst: Option<String>,
+    /// One report per group of output words, in word order.
+    pub groups: Vec<GroupReport>,
+    /// Cases whose later words were compared with ggx-core's at the GPU's intermediate result
+    /// (`ggx_conductor_sample`: weight and pdf at the GPU's `wi` where it differs from
+    /// ggx-core's).
+    pub rebased: usize,
+    /// Which words a rebased case compares with ggx-core at the GPU's intermediate result.
+    pub rebase_note: Option<&'static str>,
 }
 
 impl RowReport {
-    /// No failure, no NaN where ggx-core has none, and under [`Contract::Finite`] no NaN or
-    /// infinity at all.
+    /// Every group passed.
     pub fn passed(&self) -> bool {
-        let finite = self.nan == (0, 0) && self.inf == (0, 0);
-        self.failures == 0 && self.nan.0 <= self.nan.1 && (finite || self.contract != Some(Contract::Finite))
+        self.groups.iter().all(GroupReport::passed)
+    }
+
+    /// Words outside their bound or contract, over every group.
+    pub fn failures(&self) -> usize {
+        self.groups.iter().map(|g| g.failures).sum()
     }
 }
 
@@ -213,38 +277,63 @@ impl ParityReport {
         self.rows.iter().filter(|r| !r.passed())
     }
 
-    /// The report as a text table, one row per function, then the adapter probe and the
-    /// worst case of every failing row.
+    /// The report as a text table: one line per group of output words (the function's name on
+    /// the first), and under each function the case behind every non-zero maximum (`ulp`,
+    /// `rel`, `abs`: inputs, the GPU's and ggx-core's outputs); then the adapter probe and
+    /// the worst case of every failing group.
     pub fn table(&self) -> String {
         let mut s = format!("parity of ggx_core.wgsl against ggx-core on {}\n", self.adapter);
         let _ = writeln!(
             s,
-            "{:<26} {:>7} {:>8} {:>11} {:>11} {:<17} {:<8} {:>9} {:>9}  result",
-            "function", "cases", "max ulp", "max rel", "max abs", "bound", "contract", "nan g/c", "inf g/c"
+            "{:<26} {:>7} {:<16} {:>10} {:>9} {:>9} {:<16} {:<8} {:>7} {:>7}  result",
+            "function", "cases", "words", "max ulp", "max rel", "max abs", "bound", "contract", "nan g/c", "inf g/c"
         );
         for r in &self.rows {
-            let ulp = if r.max_ulp == u64::MAX { "inf".to_string() } else { r.max_ulp.to_string() };
-            let _ = writeln!(
-                s,
-                "{:<26} {:>7} {:>8} {:>11.2e} {:>11.2e} {:<17} {:<8} {:>9} {:>9}  {}",
-                r.name,
-                r.cases,
-                ulp,
-                r.max_rel,
-                r.max_abs,
-                r.bound.to_string(),
-                r.contract.map_or("bits".to_string(), |c| c.to_string()),
-                format!("{}/{}", r.nan.0, r.nan.1),
-                format!("{}/{}", r.inf.0, r.inf.1),
-                if r.passed() { "pass" } else { "FAIL" }
-            );
+            for (i, g) in r.groups.iter().enumerate() {
+                let (name, cases) = if i == 0 { (r.name, r.cases.to_string()) } else { ("", String::new()) };
+                let ulp = if g.max_ulp == u64::MAX { "inf".to_string() } else { g.max_ulp.to_string() };
+                let (bound, contract) = match g.contract {
+                    Some(c) => (g.bound.to_string(), c.to_string()),
+                    None => ("exact".to_string(), "bits".to_string()),
+                };
+                let _ = writeln!(
+                    s,
+                    "{name:<26} {cases:>7} {:<16} {ulp:>10} {:>9.2e} {:>9.2e} {bound:<16} {contract:<8} {:>7} {:>7}  {}",
+                    g.name,
+                    g.max_rel,
+                    g.max_abs,
+                    format!("{}/{}", g.nan.0, g.nan.1),
+                    format!("{}/{}", g.inf.0, g.inf.1),
+                    if g.passed() { "pass" } else { "FAIL" }
+                );
+            }
+            if r.rebased > 0 {
+                let what = r.rebase_note.unwrap_or("-");
+                let _ = writeln!(s, "    {} cases rebased ({what})", r.rebased);
+            }
+            for g in &r.groups {
+                // One line per distinct case: the maxima it is behind.
+                let mut lines: Vec<(Vec<&str>, &Witness)> = Vec::new();
+                for (what, w) in ["ulp", "rel", "abs"].into_iter().zip(&g.at_max) {
+                    let Some(w) = w else { continue };
+                    match lines.iter_mut().find(|(_, x)| x.case == w.case && x.word == w.word) {
+                        Some((whats, _)) => whats.push(what),
+                        None => lines.push((vec![what], w)),
+                    }
+                }
+                for (whats, w) in lines {
+                    let _ = writeln!(s, "    max {}: {}", whats.join(","), w.text);
+                }
+            }
         }
         let passed = self.rows.iter().filter(|r| r.passed()).count();
         let _ = writeln!(s, "{passed}/{} functions within bounds", self.rows.len());
         let _ = write!(s, "{}", self.probe);
         for r in self.failures() {
-            let _ =
-                writeln!(s, "{} failed {} outputs; worst: {}", r.name, r.failures, r.worst.as_deref().unwrap_or("-"));
+            for g in r.groups.iter().filter(|g| !g.passed()) {
+                let worst = g.worst.as_ref().map_or("-", |w| w.text.as_str());
+                let _ = writeln!(s, "{} {} failed {} words; worst: {worst}", r.name, g.name, g.failures);
+            }
         }
         s
     }
@@ -406,106 +495,188 @@ impl<'a> Kernel<'a> {
     }
 }
 
-/// Whether the GPU word `got` matches the expectation.
-fn word_ok(bound: Bound, expect: Expect, got: u32) -> bool {
-    match expect {
-        Expect::Bits(c) => got == c,
-        Expect::Float(c) => bound.accepts(f32::from_bits(got), c),
-    }
+/// How one GPU word compares with ggx-core's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct WordCheck {
+    /// ULP distance (`u64::MAX` for a NaN on one side only or an integer word that differs).
+    ulp: u64,
+    /// Absolute error, when both sides are finite floats.
+    abs: Option<f64>,
+    /// Relative error, when both sides are finite floats and ggx-core's is not zero.
+    rel: Option<f64>,
+    /// Within the bound (integer words: the same bits).
+    within: bool,
+    /// Both sides finite (integer words always are).
+    finite: bool,
 }
 
-/// Whether a float word is finite on both sides (bit words always are).
-fn finite_word(expect: Expect, got: u32) -> bool {
+/// Compares the GPU word `got` with the expectation under `bound`.
+fn check_word(bound: Bound, expect: Expect, got: u32) -> WordCheck {
     match expect {
-        Expect::Bits(_) => true,
-        Expect::Float(c) => c.is_finite() && f32::from_bits(got).is_finite(),
-    }
-}
-
-/// Compares the GPU's words with the CPU's expectations.
-fn compare(spec: &Spec, gpu: &[u32]) -> RowReport {
-    let mut r = RowReport {
-        name: spec.name,
-        cases: spec.cases.len(),
-        max_ulp: 0,
-        max_rel: 0.0,
-        max_abs: 0.0,
-        bound: spec.bound,
-        contract: spec.expect.iter().flatten().any(|e| matches!(e, Expect::Float(_))).then_some(spec.contract),
-        failures: 0,
-        nan: (0, 0),
-        inf: (0, 0),
-        worst: None,
-    };
-    let mut worst_ulp = 0;
-    for (case, (expect, got)) in spec.expect.iter().zip(gpu.chunks(OUT_WORDS)).enumerate() {
-        let mut failed = Vec::new();
-        let (mut max_ulp, mut max_rel, mut max_abs) = (0, 0.0f64, 0.0f64);
-        for (k, (&e, &g)) in expect.iter().zip(got).enumerate() {
-            let ulp = match e {
-                Expect::Bits(c) => u64::from(g != c) * u64::MAX,
-                Expect::Float(c) => {
-                    let gf = f32::from_bits(g);
-                    r.nan.0 += gf.is_nan() as usize;
-                    r.nan.1 += c.is_nan() as usize;
-                    r.inf.0 += gf.is_infinite() as usize;
-                    r.inf.1 += c.is_infinite() as usize;
-                    if gf.is_finite() && c.is_finite() {
-                        let abs = (f64::from(gf) - f64::from(c)).abs();
-                        max_abs = max_abs.max(abs);
-                        if c != 0.0 {
-                            max_rel = max_rel.max(abs / f64::from(c).abs());
-                        }
-                    }
-                    if gf.is_nan() != c.is_nan() {
-                        u64::MAX
-                    } else if gf.is_nan() {
-                        0
-                    } else {
-                        ulp_distance(gf, c)
-                    }
-                }
+        Expect::Bits(c) => {
+            WordCheck { ulp: u64::from(got != c) * u64::MAX, abs: None, rel: None, within: got == c, finite: true }
+        }
+        Expect::Float(c) => {
+            let g = f32::from_bits(got);
+            let both_finite = g.is_finite() && c.is_finite();
+            let abs = both_finite.then(|| (f64::from(g) - f64::from(c)).abs());
+            let ulp = match (g.is_nan(), c.is_nan()) {
+                (true, true) => 0,
+                (false, false) => ulp_distance(g, c),
+                _ => u64::MAX,
             };
-            max_ulp = max_ulp.max(ulp);
-            if !word_ok(spec.bound, e, g) {
-                failed.push((k, ulp));
-            } else if spec.contract == Contract::Finite && !finite_word(e, g) {
-                // Equal on both sides, but the contract excludes NaN and infinity.
-                failed.push((k, u64::MAX));
+            WordCheck {
+                ulp,
+                abs,
+                rel: abs.filter(|_| c != 0.0).map(|a| a / f64::from(c).abs()),
+                within: bound.accepts(g, c),
+                finite: both_finite,
             }
         }
-        r.max_ulp = r.max_ulp.max(max_ulp);
-        r.max_rel = r.max_rel.max(max_rel);
-        r.max_abs = r.max_abs.max(max_abs);
-        if failed.is_empty() {
-            continue;
+    }
+}
+
+/// The name of output word `k` in its group (`pdf`, `wi[2]`).
+fn word_name(spec: &Spec, k: usize) -> String {
+    let mut start = 0;
+    for g in &spec.groups {
+        if k < start + g.words {
+            return if g.words == 1 { g.name.to_string() } else { format!("{}[{}]", g.name, k - start) };
         }
-        r.failures += failed.len();
-        let &(k, ulp) = failed.iter().max_by_key(|(_, ulp)| *ulp).expect("not empty");
-        if r.worst.is_none() || ulp > worst_ulp {
-            worst_ulp = ulp;
-            let (i, t) = (&spec.cases[case], &spec.bsdfs[case]);
-            let expected = match expect[k] {
-                Expect::Bits(c) => format!("{c:#010x}"),
-                Expect::Float(c) => format!("{c:e} ({:#010x})", c.to_bits()),
-            };
-            let contract = if word_ok(spec.bound, expect[k], got[k]) { " (not finite)" } else { "" };
-            r.worst = Some(format!(
-                "case {case} word {k}: got {:e} ({:#010x}), expected {expected}{contract}; input a={:?} b={:?} c={:?} n={:?} m={:?}, alpha=({:e}, {:e}), fresnel kind {}",
-                f32::from_bits(got[k]),
-                got[k],
-                i.a,
-                i.b,
-                i.c,
-                i.n,
-                i.m,
-                t.distribution.alpha_x,
-                t.distribution.alpha_y,
-                t.fresnel.kind
-            ));
+        start += g.words;
+    }
+    format!("word {k}")
+}
+
+/// A word for the log: floats in Rust's shortest round-trip form, integers in decimal up to
+/// 2^16 and in hex above.
+fn show_word(e: Expect, got: Option<u32>) -> String {
+    match (e, got) {
+        (Expect::Float(c), None) => format!("{c:?}"),
+        (Expect::Float(_), Some(g)) => format!("{:?}", f32::from_bits(g)),
+        (Expect::Bits(c), g) => {
+            let w = g.unwrap_or(c);
+            if w < 1 << 16 { w.to_string() } else { format!("{w:#010x}") }
         }
     }
-    r
+}
+
+/// The log line of case `case`, word `k`: the word, the non-zero inputs, then every output word
+/// on the GPU and in ggx-core.
+fn witness(spec: &Spec, case: usize, k: usize, got: &[u32], expect: &[Expect], note: &str) -> Witness {
+    let (i, t) = (&spec.cases[case], &spec.bsdfs[case]);
+    let mut inputs = Vec::new();
+    for (name, v) in [("a", i.a), ("b", i.b), ("c", i.c)] {
+        if v.iter().any(|x| x.to_bits() != 0) {
+            inputs.push(format!("{name}={v:?}"));
+        }
+    }
+    for (name, v) in [("n", i.n), ("m", i.m)] {
+        if v.iter().any(|&x| x != 0) {
+            inputs.push(format!("{name}={v:?}"));
+        }
+    }
+    if bytemuck::bytes_of(t).iter().any(|&b| b != 0) {
+        let d = t.distribution;
+        inputs.push(format!("alpha=({:?}, {:?}) fresnel kind {}", d.alpha_x, d.alpha_y, t.fresnel.kind));
+    }
+    let list =
+        |f: &dyn Fn(usize, Expect) -> String| expect.iter().enumerate().map(|(k, &e)| f(k, e)).collect::<Vec<_>>();
+    let gpu = list(&|k, e| show_word(e, Some(got[k])));
+    let cpu = list(&|_, e| show_word(e, None));
+    Witness {
+        case,
+        word: k,
+        text: format!(
+            "{} case {case}{note}: in {}; gpu [{}] cpu [{}]",
+            word_name(spec, k),
+            if inputs.is_empty() { "-".to_string() } else { inputs.join(" ") },
+            gpu.join(", "),
+            cpu.join(", ")
+        ),
+    }
+}
+
+/// Compares the GPU's words with the CPU's expectations, word by word under each group's bound.
+fn compare(spec: &Spec, gpu: &[u32]) -> RowReport {
+    let mut start = 0;
+    let mut groups: Vec<GroupReport> = spec
+        .groups
+        .iter()
+        .map(|g| {
+            start += g.words;
+            GroupReport::new(g.name, start - g.words..start, g.bound, g.contract)
+        })
+        .collect();
+    // (case, word) behind each maximum and the worst failure, turned into log lines at the end.
+    let mut at = vec![[None::<(usize, usize)>; 4]; groups.len()];
+    let mut worst_ulp = vec![0; groups.len()];
+    let mut rebased = 0;
+    for (case, (expect, got)) in spec.expect.iter().zip(gpu.chunks(OUT_WORDS)).enumerate() {
+        let alt = expected(spec, case, got);
+        rebased += alt.is_some() as usize;
+        let expect = alt.as_deref().unwrap_or(expect);
+        for (j, g) in groups.iter_mut().enumerate() {
+            for k in g.words.clone() {
+                let (e, w) = (expect[k], got[k]);
+                let c = check_word(g.bound, e, w);
+                if let Expect::Float(cpu) = e {
+                    let gf = f32::from_bits(w);
+                    g.nan.0 += gf.is_nan() as usize;
+                    g.nan.1 += cpu.is_nan() as usize;
+                    g.inf.0 += gf.is_infinite() as usize;
+                    g.inf.1 += cpu.is_infinite() as usize;
+                }
+                if c.ulp > g.max_ulp {
+                    g.max_ulp = c.ulp;
+                    at[j][0] = Some((case, k));
+                }
+                if let Some(rel) = c.rel.filter(|&r| r > g.max_rel) {
+                    g.max_rel = rel;
+                    at[j][1] = Some((case, k));
+                }
+                if let Some(abs) = c.abs.filter(|&a| a > g.max_abs) {
+                    g.max_abs = abs;
+                    at[j][2] = Some((case, k));
+                }
+                // Under the finite contract a NaN or infinity fails even where both sides agree.
+                let failed = !c.within || (g.contract == Some(Contract::Finite) && !c.finite);
+                if failed {
+                    g.failures += 1;
+                    let ulp = if c.within { u64::MAX } else { c.ulp };
+                    if at[j][3].is_none() || ulp > worst_ulp[j] {
+                        worst_ulp[j] = ulp;
+                        at[j][3] = Some((case, k));
+                    }
+                }
+            }
+        }
+    }
+    for (g, at) in groups.iter_mut().zip(at) {
+        let log = |(case, k): (usize, usize)| {
+            let got = &gpu[case * OUT_WORDS..][..OUT_WORDS];
+            let alt = expected(spec, case, got);
+            let expect = alt.as_deref().unwrap_or(&spec.expect[case]);
+            let not_finite = matches!(expect[k], Expect::Float(_)) && check_word(g.bound, expect[k], got[k]).within;
+            let mut note = String::new();
+            if let (Some(_), Some((_, what))) = (&alt, spec.rebase) {
+                let _ = write!(note, " ({what})");
+            }
+            if not_finite && at[3] == Some((case, k)) {
+                note.push_str(" (not finite)");
+            }
+            witness(spec, case, k, got, expect, &note)
+        };
+        g.at_max = [at[0].map(log), at[1].map(log), at[2].map(log)];
+        g.worst = at[3].map(log);
+    }
+    RowReport { name: spec.name, cases: spec.cases.len(), groups, rebased, rebase_note: spec.rebase.map(|r| r.1) }
+}
+
+/// ggx-core's words at the GPU's intermediate result for case `case`, where the row rebases
+/// and the GPU's intermediate result differs ([`Spec::rebase`]).
+fn expected(spec: &Spec, case: usize, got: &[u32]) -> Option<Vec<Expect>> {
+    spec.rebase.and_then(|(f, _)| f(&spec.cases[case], &spec.bsdfs[case], got, &spec.expect[case]))
 }
 
 fn probe(kernel: &Kernel) -> Result<ProbeReport, GpuError> {
@@ -551,7 +722,7 @@ pub fn run_parity(ctx: &GpuContext) -> Result<ParityReport, GpuError> {
 
 #[cfg(test)]
 mod tests {
-    use super::cases::INF;
+    use super::cases::{Group, INF, SAMPLE_GROUPS};
     use super::*;
 
     #[test]
@@ -569,31 +740,194 @@ mod tests {
     }
 
     #[test]
-    fn finite_contract_rejects_nan_and_inf_on_either_side() {
-        let spec = |contract, cpu: f32| Spec {
+    fn groups_cover_every_word_with_its_kind() {
+        for spec in &specs() {
+            let words: usize = spec.groups.iter().map(|g| g.words).sum();
+            let kinds: Vec<bool> = spec.groups.iter().flat_map(|g| vec![g.contract.is_none(); g.words]).collect();
+            for expect in &spec.expect {
+                assert_eq!(expect.len(), words, "{}: groups cover every output word", spec.name);
+                for (k, (e, &bits)) in expect.iter().zip(&kinds).enumerate() {
+                    assert_eq!(
+                        matches!(e, Expect::Bits(_)),
+                        bits,
+                        "{} word {k}: integer words in bits groups",
+                        spec.name
+                    );
+                }
+            }
+        }
+    }
+
+    /// A one-case row with the given groups, ggx-core's words `cpu` and no rebase.
+    fn one_case(groups: &[Group], cpu: Vec<Expect>) -> Spec {
+        Spec {
             name: "test",
-            bound: Bound::EXACT,
-            contract,
+            groups: groups.to_vec(),
             cases: vec![Input::default()],
             bsdfs: vec![GgxConductor::zeroed()],
-            expect: vec![vec![Expect::Float(cpu), Expect::Bits(7)]],
+            expect: vec![cpu],
+            rebase: None,
+        }
+    }
+
+    fn padded(words: &[u32]) -> Vec<u32> {
+        words.iter().copied().chain(std::iter::repeat(0)).take(OUT_WORDS).collect()
+    }
+
+    #[test]
+    fn finite_contract_rejects_nan_and_inf_on_either_side() {
+        let spec = |contract, cpu: f32| {
+            let value = Group { contract: Some(contract), ..Group::value(Bound::Exact) };
+            one_case(&[value, Group::bits("flag", 1)], vec![Expect::Float(cpu), Expect::Bits(7)])
         };
-        let gpu = |x: f32| [x.to_bits(), 7].into_iter().chain([0; OUT_WORDS - 2]).collect::<Vec<u32>>();
+        let gpu = |x: f32| padded(&[x.to_bits(), 7]);
         for x in [NAN, INF, -INF] {
             // Both sides agree: fine for an IEEE row, a broken promise for a finite one.
             let ieee = compare(&spec(Contract::Ieee, x), &gpu(x));
-            assert!(ieee.passed() && ieee.failures == 0, "{x}");
+            assert!(ieee.passed() && ieee.failures() == 0, "{x}");
             let finite = compare(&spec(Contract::Finite, x), &gpu(x));
-            assert!(!finite.passed() && finite.failures == 1, "{x}");
-            assert!(finite.worst.as_deref().unwrap().contains("(not finite)"), "{:?}", finite.worst);
+            assert!(!finite.passed() && finite.failures() == 1, "{x}");
+            let worst = finite.groups[0].worst.as_ref().map(|w| w.text.as_str());
+            assert!(worst.unwrap().contains("(not finite)"), "{worst:?}");
+            assert!(finite.groups[1].passed(), "the flag group has no float contract");
             // Only the GPU leaves the contract.
             assert!(!compare(&spec(Contract::Finite, 0.0), &gpu(x)).passed(), "{x}");
         }
         let ok = compare(&spec(Contract::Finite, 0.5), &gpu(0.5));
-        assert!(ok.passed() && ok.contract == Some(Contract::Finite));
-        let bits = Spec { expect: vec![vec![Expect::Bits(NAN.to_bits())]], ..spec(Contract::Finite, 0.0) };
-        let bits = compare(&bits, &gpu(NAN));
-        assert!(bits.passed() && bits.contract.is_none(), "bit rows carry no float contract");
+        assert!(ok.passed() && ok.groups[0].contract == Some(Contract::Finite));
+        let bits = compare(&one_case(&[Group::bits("word", 1)], vec![Expect::Bits(NAN.to_bits())]), &gpu(NAN));
+        assert!(bits.passed() && bits.groups[0].contract.is_none(), "bit rows carry no float contract");
+        let flag = compare(&spec(Contract::Finite, 0.5), &padded(&[0.5f32.to_bits(), 8]));
+        assert!(!flag.passed() && flag.groups[1].max_ulp == u64::MAX, "an integer word that differs fails");
+    }
+
+    /// ggx-core's `ggx_conductor_sample` words: valid, not delta, `wi`, `weight`, `pdf`.
+    fn sample_expect(wi: [f32; 3], weight: [f32; 3], pdf: f32) -> Vec<Expect> {
+        let floats = wi.into_iter().chain(weight).chain([pdf]).map(Expect::Float);
+        [Expect::Bits(1), Expect::Bits(0)].into_iter().chain(floats).collect()
+    }
+
+    fn sample_gpu(wi: [f32; 3], weight: [f32; 3], pdf: f32) -> Vec<u32> {
+        let floats = wi.into_iter().chain(weight).chain([pdf]).map(f32::to_bits);
+        padded(&[1, 0].into_iter().chain(floats).collect::<Vec<_>>())
+    }
+
+    #[test]
+    fn sample_pdf_and_weight_have_no_absolute_escape() {
+        // The old rule: every float word of the row under the unit-vector bound.
+        let old = [Group::bits("valid,delta", 2), Group::float("all", 7, Bound::UlpsOrAbs(16, 1.0 / 1_048_576.0))];
+        let wi = [0.6, 0.0, 0.8];
+        let (weight, pdf) = ([0.25, 0.5, 1e-8], 5e-7f32);
+        let cpu = sample_expect(wi, weight, pdf);
+
+        // A pdf below 1e-6 off by 1e-3 relative.
+        let gpu = sample_gpu(wi, weight, pdf * 1.001);
+        assert!(compare(&one_case(&old, cpu.clone()), &gpu).passed(), "the old rule let it through");
+        let new = compare(&one_case(&SAMPLE_GROUPS, cpu.clone()), &gpu);
+        assert!(!new.passed() && new.failures() == 1);
+        let pdf_group = new.groups.iter().find(|g| g.name == "pdf").unwrap();
+        assert_eq!(pdf_group.failures, 1);
+        assert!(pdf_group.worst.as_ref().unwrap().text.starts_with("pdf case 0"), "{:?}", pdf_group.worst);
+        assert!((pdf_group.max_rel - 1e-3).abs() < 1e-5, "{}", pdf_group.max_rel);
+
+        // A weight of 1e-8 off by 1e-3 relative.
+        let gpu = sample_gpu(wi, [0.25, 0.5, 1e-8 * 1.001], pdf);
+        assert!(compare(&one_case(&old, cpu.clone()), &gpu).passed(), "the old rule let it through");
+        let new = compare(&one_case(&SAMPLE_GROUPS, cpu.clone()), &gpu);
+        assert!(!new.passed() && new.groups[2].failures == 1, "weight[2] fails");
+        assert!(new.groups[2].worst.as_ref().unwrap().text.starts_with("weight[2] case 0"));
+
+        // The direction keeps the unit-vector bound: 4e-7 absolute on a component passes.
+        let gpu = sample_gpu([0.6, 4e-7, 0.8], weight, pdf);
+        assert!(compare(&one_case(&SAMPLE_GROUPS, cpu.clone()), &gpu).passed());
+        // Sixteen ulp on a weight pass, seventeen fail; likewise the pdf.
+        let ulps = |x: f32, n: u32| f32::from_bits(x.to_bits() + n);
+        let gpu = sample_gpu(wi, [0.25, ulps(0.5, 16), 1e-8], ulps(pdf, 16));
+        assert!(compare(&one_case(&SAMPLE_GROUPS, cpu.clone()), &gpu).passed());
+        let gpu = sample_gpu(wi, [0.25, ulps(0.5, 17), 1e-8], pdf);
+        assert!(!compare(&one_case(&SAMPLE_GROUPS, cpu.clone()), &gpu).passed());
+        let gpu = sample_gpu(wi, weight, ulps(pdf, 17));
+        assert!(!compare(&one_case(&SAMPLE_GROUPS, cpu), &gpu).passed());
+    }
+
+    #[test]
+    fn sample_rebases_weight_and_pdf_on_the_gpu_direction() {
+        let spec = specs().into_iter().find(|s| s.name == "ggx_conductor_sample").unwrap();
+        let (f, _) = spec.rebase.unwrap();
+        // A valid, non-delta sample at a grazing view.
+        let case = (0..spec.cases.len())
+            .find(|&c| {
+                let e = &spec.expect[c];
+                matches!((e[0], e[1]), (Expect::Bits(1), Expect::Bits(0)))
+                    && spec.cases[c].a[2] == 1e-3
+                    && spec.cases[c].n[0] == 1
+            })
+            .unwrap();
+        let (i, k, cpu) = (&spec.cases[case], &spec.bsdfs[case], &spec.expect[case]);
+        let word = |e: Expect| match e {
+            Expect::Float(x) => x.to_bits(),
+            Expect::Bits(w) => w,
+        };
+        let same: Vec<u32> = padded(&cpu.iter().map(|&e| word(e)).collect::<Vec<_>>());
+        assert!(f(i, k, &same, cpu).is_none(), "the same direction keeps ggx-core's own words");
+        // The GPU's wi one ulp away in x: weight and pdf of that direction, wi unchanged.
+        let mut moved = same.clone();
+        moved[2] += 1;
+        let alt = f(i, k, &moved, cpu).expect("rebased");
+        let wi = glam::Vec3::new(f32::from_bits(moved[2]), f32::from_bits(moved[3]), f32::from_bits(moved[4]));
+        let wo = glam::Vec3::new(i.a[0], i.a[1], i.a[2]);
+        let pdf = k.pdf(wo, wi, ggx_core::Sampling::from_u32(i.n[0]));
+        assert!(matches!(alt[8], Expect::Float(p) if p == pdf), "pdf at the gpu's wi");
+        assert!(matches!(alt[2], Expect::Float(x) if x.to_bits() == same[2]), "wi keeps ggx-core's reference");
+        // The row's comparison uses it, and says so in the log.
+        let one = Spec {
+            cases: vec![*i],
+            bsdfs: vec![*k],
+            expect: vec![cpu.clone()],
+            ..specs().into_iter().find(|s| s.name == "ggx_conductor_sample").unwrap()
+        };
+        let mut gpu: Vec<u32> = alt.iter().map(|&e| word(e)).collect();
+        gpu[2] = moved[2];
+        let r = compare(&one, &padded(&gpu));
+        assert!(r.passed() && r.rebased == 1, "{}", r.groups.iter().map(|g| g.failures).sum::<usize>());
+        let w = r.groups[1].at_max[0].as_ref().expect("wi is one ulp away");
+        assert!(w.text.contains("(weight, pdf: cpu at the gpu's wi)"), "{}", w.text);
+    }
+
+    #[test]
+    fn the_table_logs_the_case_behind_every_maximum() {
+        let spec = one_case(&[Group::float("xyz", 3, Bound::Ulps(4))], [0.5f32, 0.25, 2.0].map(Expect::Float).to_vec());
+        let gpu = padded(&[0.5f32.to_bits(), 0.25f32.to_bits() + 2, 2.0f32.to_bits()]);
+        let row = compare(&spec, &gpu);
+        assert!(row.passed());
+        let g = &row.groups[0];
+        assert_eq!(g.max_ulp, 2);
+        for w in &g.at_max {
+            assert_eq!(w.as_ref().map(|w| (w.case, w.word)), Some((0, 1)));
+        }
+        let report = ParityReport {
+            adapter: "test".into(),
+            rows: vec![row],
+            probe: ProbeReport {
+                nan_ne_self: false,
+                not_gt_nan: true,
+                is_nan_bits: true,
+                max_nan_zero: 0.0,
+                min_nan_one: 1.0,
+                clamp_nan: 0.0,
+                one_over_zero: INF,
+                zero_over_zero: NAN,
+                sqrt_minus_one: NAN,
+                subnormal_input_kept: true,
+                subnormal_result_kept: true,
+                fma_contracted: false,
+            },
+        };
+        let table = report.table();
+        assert!(
+            table.contains("    max ulp,rel,abs: xyz[1] case 0: in -; gpu [0.5, 0.25000006, 2.0] cpu [0.5, 0.25, 2.0]"),
+            "{table}"
+        );
     }
 
     #[test]
@@ -602,12 +936,15 @@ mod tests {
         assert_eq!(ulp_distance(0.0, -0.0), 0);
         assert_eq!(ulp_distance(1.0, f32::from_bits(1.0f32.to_bits() + 3)), 3);
         assert_eq!(ulp_distance(f32::from_bits(1), -f32::from_bits(1)), 2);
-        assert!(Bound::EXACT.accepts(NAN, NAN));
-        assert!(!Bound::ulps(100).accepts(NAN, 1.0));
-        assert!(!Bound::ulps(100).accepts(f32::MAX, INF));
-        assert!(Bound::mixed(0, 1e-6).accepts(1e-7, 0.0));
-        assert!(!Bound::ulps(4).accepts(1.0, 1.001));
-        assert!(Bound::EXACT.accepts(0.0, 1e-40), "flushed subnormal");
-        assert!(!Bound::EXACT.accepts(0.0, f32::MIN_POSITIVE));
+        assert!(Bound::Exact.accepts(NAN, NAN));
+        assert!(!Bound::Ulps(100).accepts(NAN, 1.0));
+        assert!(!Bound::Ulps(100).accepts(f32::MAX, INF));
+        assert!(Bound::UlpsOrAbs(0, 1e-6).accepts(1e-7, 0.0));
+        assert!(!Bound::Ulps(1000).accepts(1e-7, 0.0), "no absolute escape");
+        assert!(!Bound::Ulps(4).accepts(1.0, 1.001));
+        assert!(Bound::Exact.accepts(0.0, 1e-40), "flushed subnormal");
+        assert!(!Bound::Exact.accepts(0.0, f32::MIN_POSITIVE));
+        assert!(Bound::Exact.accepts(-0.0, 0.0));
+        assert_eq!(Bound::UlpsOrAbs(16, 1.0 / 1_048_576.0).to_string(), "16 ulp|1e-6 abs");
     }
 }
