@@ -11,7 +11,8 @@ use glam::{Vec2, Vec3};
 #[derive(Clone, Copy, PartialEq)]
 #[cfg_attr(not(target_arch = "spirv"), derive(Debug))]
 pub struct BsdfSample {
-    /// Sampled incident direction (unit, `z > 0`).
+    /// Sampled incident direction (unit; `z > 0` from [`GgxConductor`], on either side from
+    /// [`crate::GgxDielectric`]: the side of `wo` for reflection, the other for transmission).
     pub wi: Vec3,
     /// `eval(wo, wi) / pdf`, i.e. `f |cos theta_i| / pdf`; for a delta lobe, `F`.
     pub weight: Vec3,
@@ -19,6 +20,24 @@ pub struct BsdfSample {
     pub pdf: f32,
     /// True when the lobe is a mirror (alpha below [`crate::DELTA_ALPHA`]).
     pub is_delta: bool,
+}
+
+impl BsdfSample {
+    /// True when the sample crossed the surface (transmission): `wi` and `wo` lie on opposite
+    /// sides, `wo.z wi.z < 0`. Reflection keeps the side, so this is exactly which lobe
+    /// `sample` took (a method, not a field, so that every existing `BsdfSample { .. }`
+    /// literal keeps compiling). False for a zero, horizontal or NaN `wo`.
+    #[inline]
+    pub fn is_transmission(&self, wo: Vec3) -> bool {
+        wo.z * self.wi.z < 0.0
+    }
+
+    /// The lobe flag of the sample: [`crate::BxdfFlags::TRANSMISSION`] when
+    /// [`Self::is_transmission`], else [`crate::BxdfFlags::REFLECTION`].
+    #[inline]
+    pub fn lobe(&self, wo: Vec3) -> crate::BxdfFlags {
+        if self.is_transmission(wo) { crate::BxdfFlags::TRANSMISSION } else { crate::BxdfFlags::REFLECTION }
+    }
 }
 
 /// GGX reflection off a conductor (or any interface whose transmission is discarded):

@@ -16,6 +16,9 @@
 //!   hemisphere baselines in [`warp`].
 //! * [`Fresnel`]: Schlick, exact dielectric, complex-IOR conductor and `One`.
 //! * [`GgxConductor`]: the reflection BRDF that ties them together (`eval`, `pdf`, `sample`).
+//! * [`GgxDielectric`]: reflection and transmission through one rough interface (Walter et
+//!   al. 2007), with [`TransportMode`] and [`refract`].
+//! * [`Bxdf`]: the one BSDF interface both implement (static dispatch), with [`BxdfFlags`].
 //! * [`mis`]: balance and power heuristics that survive infinite and zero densities.
 //! * [`Frame`]: the branchless orthonormal basis of Duff et al. 2017.
 //! * [`sequence`]: counter-based and Owen-scrambled Sobol' sample streams that give
@@ -38,7 +41,9 @@ extern crate std;
 
 pub mod alpha;
 pub mod batch;
+mod bxdf;
 mod conductor;
+mod dielectric;
 mod distribution;
 mod frame;
 pub mod fresnel;
@@ -53,7 +58,9 @@ pub mod sequence;
 pub mod warp;
 
 pub use alpha::{ALPHA_MAX, ALPHA_MIN, DELTA_ALPHA, alpha_to_roughness, roughness_to_alpha};
+pub use bxdf::{Bxdf, BxdfFlags, TransportMode};
 pub use conductor::{BsdfSample, GgxConductor};
+pub use dielectric::{ETA_MAX, ETA_MIN, GgxDielectric, clamp_eta, refract};
 pub use distribution::TrowbridgeReitz;
 pub use frame::{Frame, reflect};
 pub use fresnel::{Fresnel, FresnelParams};

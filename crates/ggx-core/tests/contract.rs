@@ -19,8 +19,9 @@ use ggx_core::sequence::{
     self as seq, CounterRng, SOBOL_DIMENSIONS, SOBOL_DIRECTIONS, SampleStream, SequenceKind, hash_combine,
 };
 use ggx_core::{
-    ALPHA_MAX, ALPHA_MIN, DELTA_ALPHA, Frame, Fresnel, GgxConductor, Sampling, TrowbridgeReitz, Vec2, Vec3, alpha,
-    alpha_to_roughness, reflect, roughness_to_alpha, warp,
+    ALPHA_MAX, ALPHA_MIN, BsdfSample, Bxdf, BxdfFlags, DELTA_ALPHA, ETA_MAX, ETA_MIN, Frame, Fresnel, GgxConductor,
+    GgxDielectric, Sampling, TransportMode, TrowbridgeReitz, Vec2, Vec3, alpha, alpha_to_roughness, clamp_eta, reflect,
+    refract, roughness_to_alpha, warp,
 };
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
@@ -121,6 +122,31 @@ fn raw_brdf() -> impl Strategy<Value = GgxConductor> {
             .prop_map(|(distribution, pad, fresnel)| GgxConductor { distribution, pad, fresnel }),
         1 => any::<[u32; 16]>().prop_map(bytemuck::cast::<[u32; 16], GgxConductor>),
     ]
+}
+
+/// A dielectric whose every field bypasses the constructor; sometimes all 16 bytes arbitrary.
+fn raw_dielectric() -> impl Strategy<Value = GgxDielectric> {
+    prop_oneof![
+        4 => (raw_dist(), prop_oneof![3 => field(), 1 => Just(1.5f32), 1 => 0.3f32..3.0], any::<u32>())
+            .prop_map(|(distribution, eta, pad)| GgxDielectric { distribution, eta, pad }),
+        1 => any::<[u32; 4]>().prop_map(bytemuck::cast::<[u32; 4], GgxDielectric>),
+    ]
+}
+
+fn constructed_dielectric(b: GgxDielectric) -> GgxDielectric {
+    GgxDielectric::new(b.distribution.alpha_x, b.distribution.alpha_y, b.eta)
+}
+
+fn mode() -> impl Strategy<Value = TransportMode> {
+    prop_oneof![Just(TransportMode::Radiance), Just(TransportMode::Importance)]
+}
+
+fn flags() -> impl Strategy<Value = BxdfFlags> {
+    prop_oneof![0u32..16, any::<u32>()].prop_map(BxdfFlags)
+}
+
+fn sample_key(r: Option<BsdfSample>) -> Option<([u32; 3], [u32; 3], u32, bool)> {
+    r.map(|b| (b.wi.to_array().map(f32::to_bits), b.weight.to_array().map(f32::to_bits), b.pdf.to_bits(), b.is_delta))
 }
 
 fn raw_frame() -> impl Strategy<Value = Frame> {
@@ -597,6 +623,123 @@ proptest! {
             r.map(|b| (b.wi.to_array().map(f32::to_bits), b.weight.to_array().map(f32::to_bits), b.pdf.to_bits(), b.is_delta))
         };
         prop_assert_eq!(key(r), key(c), "{:?} {:?} {:?} {:?}", b, wo, u, s);
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// GgxDielectric, refract, the Bxdf trait, BsdfSample
+// ---------------------------------------------------------------------------------------------
+
+proptest! {
+    #![proptest_config(config())]
+
+    #[test]
+    fn dielectric_clamp_eta(x in field()) {
+        let e = clamp_eta(x);
+        prop_assert!((ETA_MIN..=ETA_MAX).contains(&e), "{x} -> {e}");
+        if x > 0.0 && x.is_finite() && (ETA_MIN..=ETA_MAX).contains(&x) {
+            prop_assert_eq!(e, x);
+        }
+    }
+
+    /// `Some`: finite; unit for unit inputs; on the other side of `n` from `w`.
+    #[test]
+    fn dielectric_refract(w in dir(), n in dir(), eta in field()) {
+        if let Some(t) = refract(w, n, eta) {
+            prop_assert!(t.is_finite(), "{w:?} {n:?} {eta} -> {t:?}");
+            let unit = |v: Vec3| (v.length() - 1.0).abs() < 1e-5;
+            if unit(w) && unit(n) {
+                prop_assert!(unit(t) && t.dot(n) * w.dot(n) <= 1e-6, "{w:?} {n:?} {eta} -> {t:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn ggx_dielectric_new(x in field(), y in field(), eta in field()) {
+        let b = GgxDielectric::new(x, y, eta);
+        prop_assert_eq!(b.distribution, TrowbridgeReitz::new(x, y));
+        prop_assert_eq!((b.eta, b.pad), (clamp_eta(eta), 0));
+    }
+
+    #[test]
+    fn ggx_dielectric_isotropic(x in field(), eta in field()) {
+        let b = GgxDielectric::isotropic(x, eta);
+        prop_assert_eq!(b, GgxDielectric::new(x, x, eta));
+    }
+
+    #[test]
+    fn ggx_dielectric_eta(b in raw_dielectric()) {
+        prop_assert!((ETA_MIN..=ETA_MAX).contains(&b.eta()));
+        prop_assert!(same(b.eta(), constructed_dielectric(b).eta()));
+    }
+
+    #[test]
+    fn ggx_dielectric_is_delta(b in raw_dielectric()) {
+        prop_assert_eq!(b.is_delta(), constructed_dielectric(b).is_delta());
+        prop_assert_eq!(Bxdf::flags(&b).is_delta(), b.is_delta());
+        prop_assert!(Bxdf::flags(&b).is_transmissive());
+    }
+
+    #[test]
+    fn ggx_dielectric_eval(b in raw_dielectric(), wo in dir(), wi in dir(), m in mode()) {
+        let f = b.eval(wo, wi, m);
+        prop_assert!(ok3(f), "{b:?} {wo:?} {wi:?} -> {f:?}");
+        prop_assert!(same3(f, constructed_dielectric(b).eval(wo, wi, m)));
+        prop_assert!(same3(f, Bxdf::eval(&b, wo, wi, m)));
+    }
+
+    #[test]
+    fn ggx_dielectric_pdf(b in raw_dielectric(), wo in dir(), wi in dir(), s in sampling(), m in mode()) {
+        let p = b.pdf(wo, wi, s, m);
+        prop_assert!(ok(p), "{b:?} {wo:?} {wi:?} {s:?} -> {p}");
+        prop_assert!(same(p, constructed_dielectric(b).pdf(wo, wi, s, m)));
+        prop_assert!(same(p, Bxdf::pdf(&b, wo, wi, s, m)));
+    }
+
+    /// `Some`: unit `wi` off the horizon, weight finite and `>= 0`, pdf finite and in `(0, ...)`
+    /// (`<= 1` for a delta sample).
+    #[test]
+    fn ggx_dielectric_sample(b in raw_dielectric(), wo in dir(), u in vec2(), ul in any_f32(), s in sampling(), m in mode()) {
+        let r = b.sample(wo, u, ul, s, m);
+        if let Some(bs) = r {
+            prop_assert!((bs.wi.length() - 1.0).abs() < 1e-5 && bs.wi.z != 0.0, "{b:?} {s:?} wi {:?}", bs.wi);
+            prop_assert!(ok3(bs.weight), "{b:?} {s:?} weight {:?}", bs.weight);
+            prop_assert!(bs.pdf > 0.0 && bs.pdf.is_finite(), "{b:?} {s:?} pdf {}", bs.pdf);
+            prop_assert!(!bs.is_delta || bs.pdf <= 1.0);
+        }
+        prop_assert_eq!(sample_key(r), sample_key(constructed_dielectric(b).sample(wo, u, ul, s, m)));
+        prop_assert_eq!(sample_key(r), sample_key(Bxdf::sample(&b, wo, u, ul, s, m)));
+    }
+
+    #[test]
+    fn bxdf_conductor(b in raw_brdf(), wo in dir(), wi in dir(), u in vec2(), ul in any_f32(), s in sampling(), m in mode()) {
+        prop_assert!(same3(Bxdf::eval(&b, wo, wi, m), b.eval(wo, wi)));
+        prop_assert!(same(Bxdf::pdf(&b, wo, wi, s, m), b.pdf(wo, wi, s)));
+        prop_assert_eq!(sample_key(Bxdf::sample(&b, wo, u, ul, s, m)), sample_key(b.sample(wo, u, s)));
+        let f = Bxdf::flags(&b);
+        prop_assert!(f.contains(BxdfFlags::REFLECTION) && !f.is_transmissive() && f.is_delta() == b.is_delta());
+    }
+
+    #[test]
+    fn transport_mode_from_u32(v in any::<u32>()) {
+        let m = TransportMode::from_u32(v);
+        prop_assert_eq!(m == TransportMode::Importance, v == 1);
+    }
+
+    #[test]
+    fn bxdf_flags_methods(a in flags(), b in flags()) {
+        let u = a.union(b);
+        prop_assert!(u.contains(a) && u.contains(b));
+        prop_assert_eq!(a.is_delta(), a.0 & 8 != 0);
+        prop_assert_eq!(a.is_transmissive(), a.0 & 2 != 0);
+    }
+
+    #[test]
+    fn bsdf_sample_is_transmission_and_lobe(wi in dir(), wo in dir()) {
+        let s = BsdfSample { wi, weight: Vec3::ONE, pdf: 1.0, is_delta: false };
+        let t = s.is_transmission(wo);
+        prop_assert_eq!(t, wo.z * wi.z < 0.0);
+        prop_assert_eq!(s.lobe(wo), if t { BxdfFlags::TRANSMISSION } else { BxdfFlags::REFLECTION });
     }
 }
 

@@ -6,7 +6,8 @@
 //! hemisphere, integrate the claimed pdf over every cell to get the expected
 //! counts, pool cells with small expected counts and compare with Pearson's
 //! statistic. Samples the sampler rejects (`None`) form one extra "lost" bin
-//! whose expected count is the pdf mass missing from the upper hemisphere.
+//! whose expected count is the pdf mass missing from the upper hemisphere (or the
+//! sphere, with `Chi2Config::sphere` for transmitting BSDFs).
 //!
 //! ```ignore
 //! mod support;
@@ -59,12 +60,29 @@ pub struct Chi2Config {
     pub seed: u64,
     /// Cells with a smaller expected count are pooled into one bin.
     pub min_expected: f64,
+    /// Bin the whole sphere (theta over `[0, pi]`, for BSDFs that transmit) instead of the
+    /// upper hemisphere; samples below the horizon are then valid. Use an even
+    /// `theta_bins` so that the horizon is a bin edge.
+    pub sphere: bool,
 }
 
 impl Default for Chi2Config {
     /// 51 x 101 bins, 10^6 samples, seed 0x5eed, pooling threshold 5.
     fn default() -> Self {
-        Self { theta_bins: 51, phi_bins: 101, samples: 1_000_000, seed: 0x5eed, min_expected: 5.0 }
+        Self { theta_bins: 51, phi_bins: 101, samples: 1_000_000, seed: 0x5eed, min_expected: 5.0, sphere: false }
+    }
+}
+
+impl Chi2Config {
+    /// The whole-sphere configuration: 102 x 101 bins (the hemisphere's resolution on both
+    /// sides, the horizon on a bin edge), 10^6 samples.
+    pub fn sphere() -> Self {
+        Self { theta_bins: 102, sphere: true, ..Self::default() }
+    }
+
+    /// Upper end of the theta range: `pi / 2`, or `pi` for the sphere.
+    pub fn theta_max(&self) -> f64 {
+        if self.sphere { PI } else { FRAC_PI_2 }
     }
 }
 
@@ -305,7 +323,17 @@ impl CellIntegrals {
 /// The pdf is evaluated at directions built in f64 and rounded to `f32`.
 /// Negative, NaN or infinite values are counted and integrated as 0.
 pub fn integrate_cells(theta_bins: usize, phi_bins: usize, pdf: impl Fn(Vec3) -> f64) -> CellIntegrals {
-    let d_theta = FRAC_PI_2 / theta_bins as f64;
+    integrate_cells_to(FRAC_PI_2, theta_bins, phi_bins, pdf)
+}
+
+/// [`integrate_cells`] with theta over `[0, theta_max]` (`pi` for the whole sphere).
+pub fn integrate_cells_to(
+    theta_max: f64,
+    theta_bins: usize,
+    phi_bins: usize,
+    pdf: impl Fn(Vec3) -> f64,
+) -> CellIntegrals {
+    let d_theta = theta_max / theta_bins as f64;
     let d_phi = TAU / phi_bins as f64;
     let mut out = CellIntegrals {
         theta_bins,
@@ -366,7 +394,7 @@ pub fn chi2_test(
     assert!(cfg.min_expected > 0.0, "chi2_test: min_expected must be positive");
     let (nt, np) = (cfg.theta_bins, cfg.phi_bins);
     let n_cells = nt * np;
-    let d_theta = FRAC_PI_2 / nt as f64;
+    let d_theta = cfg.theta_max() / nt as f64;
     let d_phi = TAU / np as f64;
     let n = cfg.samples as f64;
     let mut failures = Failures::default();
@@ -393,7 +421,7 @@ pub fn chi2_test(
             failures.add("non-unit sample", || format!("u = {u}, w = {w}, |w| = {len}"));
             continue;
         }
-        if z < 0.0 {
+        if z < 0.0 && !cfg.sphere {
             failures.add("sample below the horizon (z < 0)", || format!("u = {u}, w = {w}"));
             continue;
         }
@@ -408,14 +436,14 @@ pub fn chi2_test(
     }
 
     // Integrate the pdf over every cell.
-    let cells = integrate_cells(nt, np, pdf);
+    let cells = integrate_cells_to(cfg.theta_max(), nt, np, pdf);
     if let Some(example) = &cells.invalid_pdf_example {
         failures.add_n("invalid pdf value (negative, NaN or infinite)", cells.invalid_pdf_values, || example.clone());
     }
     let pdf_integral = cells.total();
     let expected: Vec<f64> = cells.integrals.iter().map(|i| n * i).collect();
     if pdf_integral > MAX_PDF_INTEGRAL {
-        failures.add("pdf integral over the hemisphere above 1", || format!("{pdf_integral}"));
+        failures.add("pdf integral over the domain above 1", || format!("{pdf_integral}"));
     }
     let lost_expected = (n * (1.0 - pdf_integral)).max(0.0);
 

@@ -6,4 +6,5 @@
 #![allow(dead_code)]
 
 pub mod chi2;
+pub mod dielectric_ref;
 pub mod quadrature;
