@@ -102,15 +102,17 @@ mod tests {
 
     #[test]
     fn struct_layouts_match_the_rust_pod_structs() {
-        use ggx_core::{CounterRng, FresnelParams, GgxConductor, SampleStream, TrowbridgeReitz};
+        use ggx_core::{CounterRng, FresnelParams, GgxConductor, GgxDielectric, SampleStream, TrowbridgeReitz};
         let module = parse(GGX_CORE_WGSL);
         assert_layout!(&module, TrowbridgeReitz, alpha_x, alpha_y);
         assert_layout!(&module, FresnelParams, kind, eta, pad, a, b);
         assert_layout!(&module, GgxConductor, distribution, pad, fresnel);
+        assert_layout!(&module, GgxDielectric, distribution, eta, pad);
         assert_layout!(&module, CounterRng, key, counter);
         assert_layout!(&module, SampleStream, kind, seed, sample_index, dimension);
         assert_eq!(size_of::<FresnelParams>(), 48);
         assert_eq!(size_of::<GgxConductor>(), 64);
+        assert_eq!(size_of::<GgxDielectric>(), 16);
     }
 
     #[test]

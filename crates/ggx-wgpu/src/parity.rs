@@ -8,7 +8,7 @@ use std::ops::Range;
 use std::sync::mpsc;
 
 use bytemuck::Zeroable as _;
-use ggx_core::GgxConductor;
+use ggx_core::{GgxConductor, GgxDielectric};
 use wgpu::util::DeviceExt as _;
 
 use crate::{GGX_CORE_WGSL, GpuContext, GpuError, PARITY_WGSL};
@@ -122,6 +122,9 @@ pub struct GroupReport {
     pub words: Range<usize>,
     /// The tolerance the words are held to.
     pub bound: Bound,
+    /// A separately named bound for the cases its predicate selects (`ggx_dielectric_sample`'s
+    /// refracted directions): its name, its bound, what it is for and how many cases it covered.
+    pub special: Option<(&'static str, Bound, &'static str, usize)>,
     /// What ggx-core promises about the words; `None` for words compared bit for bit as
     /// integers (flags, sequences, layout).
     pub contract: Option<Contract>,
@@ -150,6 +153,7 @@ impl GroupReport {
             name,
             words,
             bound,
+            special: None,
             contract,
             max_ulp: 0,
             max_rel: 0.0,
@@ -180,8 +184,8 @@ pub struct RowReport {
     /// One report per group of output words, in word order.
     pub groups: Vec<GroupReport>,
     /// Cases whose later words were compared with ggx-core's at the GPU's intermediate result
-    /// (`ggx_conductor_sample`: weight and pdf at the GPU's `wi` where it differs from
-    /// ggx-core's).
+    /// (`ggx_conductor_sample`, `ggx_dielectric_sample`: weight and pdf at the GPU's `wi` where
+    /// it differs from ggx-core's).
     pub rebased: usize,
     /// Which words a rebased case compares with ggx-core at the GPU's intermediate result.
     pub rebase_note: Option<&'static str>,
@@ -312,6 +316,11 @@ impl ParityReport {
                 let _ = writeln!(s, "    {} cases rebased ({what})", r.rebased);
             }
             for g in &r.groups {
+                if let Some((name, bound, what, cases)) = g.special {
+                    let _ = writeln!(s, "    {} under {name} ({bound}) in {cases} cases: {what}", g.name);
+                }
+            }
+            for g in &r.groups {
                 // One line per distinct case: the maxima it is behind.
                 let mut lines: Vec<(Vec<&str>, &Witness)> = Vec::new();
                 for (what, w) in ["ulp", "rel", "abs"].into_iter().zip(&g.at_max) {
@@ -389,7 +398,7 @@ impl<'a> Kernel<'a> {
             };
             let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("ggx parity"),
-                entries: &[storage(0, true), storage(1, true), storage(2, false)],
+                entries: &[storage(0, true), storage(1, true), storage(2, false), storage(3, true)],
             });
             let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("ggx parity"),
@@ -417,12 +426,20 @@ impl<'a> Kernel<'a> {
         })
     }
 
-    /// Runs function `func` over the cases, `CHUNK` at a time; returns `OUT_WORDS` words per case.
-    fn run(&self, func: u32, cases: &[Input], bsdfs: &[GgxConductor]) -> Result<Vec<u32>, GpuError> {
+    /// Runs function `func` over the cases (each with its conductor and its dielectric),
+    /// `CHUNK` at a time; returns `OUT_WORDS` words per case.
+    fn run(
+        &self,
+        func: u32,
+        cases: &[Input],
+        bsdfs: &[GgxConductor],
+        dielectrics: &[GgxDielectric],
+    ) -> Result<Vec<u32>, GpuError> {
         let pipeline = self.pipeline(func)?;
         let mut out = Vec::with_capacity(cases.len() * OUT_WORDS);
-        for (inputs, bsdfs) in cases.chunks(CHUNK).zip(bsdfs.chunks(CHUNK)) {
-            out.extend(self.dispatch(&pipeline, inputs, bsdfs)?);
+        let chunks = cases.chunks(CHUNK).zip(bsdfs.chunks(CHUNK)).zip(dielectrics.chunks(CHUNK));
+        for ((inputs, bsdfs), dielectrics) in chunks {
+            out.extend(self.dispatch(&pipeline, inputs, bsdfs, dielectrics)?);
         }
         Ok(out)
     }
@@ -432,6 +449,7 @@ impl<'a> Kernel<'a> {
         pipeline: &wgpu::ComputePipeline,
         inputs: &[Input],
         bsdfs: &[GgxConductor],
+        dielectrics: &[GgxDielectric],
     ) -> Result<Vec<u32>, GpuError> {
         let device = self.ctx.device();
         let size = (inputs.len() * OUT_WORDS * 4) as u64;
@@ -445,6 +463,7 @@ impl<'a> Kernel<'a> {
             };
             let input_buffer = buffer("parity inputs", bytemuck::cast_slice(inputs));
             let bsdf_buffer = buffer("parity bsdfs", bytemuck::cast_slice(bsdfs));
+            let dielectric_buffer = buffer("parity dielectrics", bytemuck::cast_slice(dielectrics));
             let output = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("parity outputs"),
                 size,
@@ -464,6 +483,7 @@ impl<'a> Kernel<'a> {
                     wgpu::BindGroupEntry { binding: 0, resource: input_buffer.as_entire_binding() },
                     wgpu::BindGroupEntry { binding: 1, resource: bsdf_buffer.as_entire_binding() },
                     wgpu::BindGroupEntry { binding: 2, resource: output.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 3, resource: dielectric_buffer.as_entire_binding() },
                 ],
             });
             let mut encoder =
@@ -564,7 +584,7 @@ fn show_word(e: Expect, got: Option<u32>) -> String {
 /// The log line of case `case`, word `k`: the word, the non-zero inputs, then every output word
 /// on the GPU and in ggx-core.
 fn witness(spec: &Spec, case: usize, k: usize, got: &[u32], expect: &[Expect], note: &str) -> Witness {
-    let (i, t) = (&spec.cases[case], &spec.bsdfs[case]);
+    let (i, t, g) = (&spec.cases[case], &spec.bsdfs[case], &spec.dielectrics[case]);
     let mut inputs = Vec::new();
     for (name, v) in [("a", i.a), ("b", i.b), ("c", i.c)] {
         if v.iter().any(|x| x.to_bits() != 0) {
@@ -579,6 +599,10 @@ fn witness(spec: &Spec, case: usize, k: usize, got: &[u32], expect: &[Expect], n
     if bytemuck::bytes_of(t).iter().any(|&b| b != 0) {
         let d = t.distribution;
         inputs.push(format!("alpha=({:?}, {:?}) fresnel kind {}", d.alpha_x, d.alpha_y, t.fresnel.kind));
+    }
+    if bytemuck::bytes_of(g).iter().any(|&b| b != 0) {
+        let d = g.distribution;
+        inputs.push(format!("dielectric alpha=({:?}, {:?}) eta={:?}", d.alpha_x, d.alpha_y, g.eta));
     }
     let list =
         |f: &dyn Fn(usize, Expect) -> String| expect.iter().enumerate().map(|(k, &e)| f(k, e)).collect::<Vec<_>>();
@@ -605,7 +629,9 @@ fn compare(spec: &Spec, gpu: &[u32]) -> RowReport {
         .iter()
         .map(|g| {
             start += g.words;
-            GroupReport::new(g.name, start - g.words..start, g.bound, g.contract)
+            let mut report = GroupReport::new(g.name, start - g.words..start, g.bound, g.contract);
+            report.special = g.special.map(|sp| (sp.name, sp.bound, sp.what, 0));
+            report
         })
         .collect();
     // (case, word) behind each maximum and the worst failure, turned into log lines at the end.
@@ -617,9 +643,13 @@ fn compare(spec: &Spec, gpu: &[u32]) -> RowReport {
         rebased += alt.is_some() as usize;
         let expect = alt.as_deref().unwrap_or(expect);
         for (j, g) in groups.iter_mut().enumerate() {
+            let bound = case_bound(spec, j, case, expect);
+            if let (true, Some(sp)) = (bound.1, g.special.as_mut()) {
+                sp.3 += 1;
+            }
             for k in g.words.clone() {
                 let (e, w) = (expect[k], got[k]);
-                let c = check_word(g.bound, e, w);
+                let c = check_word(bound.0, e, w);
                 if let Expect::Float(cpu) = e {
                     let gf = f32::from_bits(w);
                     g.nan.0 += gf.is_nan() as usize;
@@ -652,15 +682,19 @@ fn compare(spec: &Spec, gpu: &[u32]) -> RowReport {
             }
         }
     }
-    for (g, at) in groups.iter_mut().zip(at) {
+    for (j, (g, at)) in groups.iter_mut().zip(at).enumerate() {
         let log = |(case, k): (usize, usize)| {
             let got = &gpu[case * OUT_WORDS..][..OUT_WORDS];
             let alt = expected(spec, case, got);
             let expect = alt.as_deref().unwrap_or(&spec.expect[case]);
-            let not_finite = matches!(expect[k], Expect::Float(_)) && check_word(g.bound, expect[k], got[k]).within;
+            let (bound, special) = case_bound(spec, j, case, expect);
+            let not_finite = matches!(expect[k], Expect::Float(_)) && check_word(bound, expect[k], got[k]).within;
             let mut note = String::new();
             if let (Some(_), Some((_, what))) = (&alt, spec.rebase) {
                 let _ = write!(note, " ({what})");
+            }
+            if let (true, Some(sp)) = (special, g.special) {
+                let _ = write!(note, " (under {})", sp.0);
             }
             if not_finite && at[3] == Some((case, k)) {
                 note.push_str(" (not finite)");
@@ -673,10 +707,21 @@ fn compare(spec: &Spec, gpu: &[u32]) -> RowReport {
     RowReport { name: spec.name, cases: spec.cases.len(), groups, rebased, rebase_note: spec.rebase.map(|r| r.1) }
 }
 
+/// The bound of group `group` in case `case`: the group's special bound where its predicate
+/// selects the case (and `true`), else the group's own bound.
+fn case_bound(spec: &Spec, group: usize, case: usize, expect: &[Expect]) -> (Bound, bool) {
+    let g = &spec.groups[group];
+    match g.special {
+        Some(sp) if (sp.applies)(&spec.cases[case], expect) => (sp.bound, true),
+        _ => (g.bound, false),
+    }
+}
+
 /// ggx-core's words at the GPU's intermediate result for case `case`, where the row rebases
 /// and the GPU's intermediate result differs ([`Spec::rebase`]).
 fn expected(spec: &Spec, case: usize, got: &[u32]) -> Option<Vec<Expect>> {
-    spec.rebase.and_then(|(f, _)| f(&spec.cases[case], &spec.bsdfs[case], got, &spec.expect[case]))
+    spec.rebase
+        .and_then(|(f, _)| f(&spec.cases[case], &spec.bsdfs[case], &spec.dielectrics[case], got, &spec.expect[case]))
 }
 
 fn probe(kernel: &Kernel) -> Result<ProbeReport, GpuError> {
@@ -687,7 +732,7 @@ fn probe(kernel: &Kernel) -> Result<ProbeReport, GpuError> {
         ..Default::default()
     };
     let id = func_id("probe").expect("parity.wgsl defines F_PROBE");
-    let w = kernel.run(id, &[input], &[GgxConductor::zeroed()])?;
+    let w = kernel.run(id, &[input], &[GgxConductor::zeroed()], &[GgxDielectric::zeroed()])?;
     let f = |k: usize| f32::from_bits(w[k]);
     Ok(ProbeReport {
         nan_ne_self: w[0] == 1,
@@ -714,7 +759,7 @@ pub fn run_parity(ctx: &GpuContext) -> Result<ParityReport, GpuError> {
         .iter()
         .map(|spec| {
             let id = func_id(spec.name).expect("every row has a `case F_<NAME>` in parity.wgsl");
-            Ok(compare(spec, &kernel.run(id, &spec.cases, &spec.bsdfs)?))
+            Ok(compare(spec, &kernel.run(id, &spec.cases, &spec.bsdfs, &spec.dielectrics)?))
         })
         .collect::<Result<Vec<_>, GpuError>>()?;
     Ok(ParityReport { adapter: ctx.describe(), rows, probe: probe(&kernel)? })
@@ -765,6 +810,7 @@ mod tests {
             groups: groups.to_vec(),
             cases: vec![Input::default()],
             bsdfs: vec![GgxConductor::zeroed()],
+            dielectrics: vec![GgxDielectric::zeroed()],
             expect: vec![cpu],
             rebase: None,
         }
@@ -869,11 +915,12 @@ mod tests {
             Expect::Bits(w) => w,
         };
         let same: Vec<u32> = padded(&cpu.iter().map(|&e| word(e)).collect::<Vec<_>>());
-        assert!(f(i, k, &same, cpu).is_none(), "the same direction keeps ggx-core's own words");
+        let g = &spec.dielectrics[case];
+        assert!(f(i, k, g, &same, cpu).is_none(), "the same direction keeps ggx-core's own words");
         // The GPU's wi one ulp away in x: weight and pdf of that direction, wi unchanged.
         let mut moved = same.clone();
         moved[2] += 1;
-        let alt = f(i, k, &moved, cpu).expect("rebased");
+        let alt = f(i, k, g, &moved, cpu).expect("rebased");
         let wi = glam::Vec3::new(f32::from_bits(moved[2]), f32::from_bits(moved[3]), f32::from_bits(moved[4]));
         let wo = glam::Vec3::new(i.a[0], i.a[1], i.a[2]);
         let pdf = k.pdf(wo, wi, ggx_core::Sampling::from_u32(i.n[0]));
@@ -883,6 +930,7 @@ mod tests {
         let one = Spec {
             cases: vec![*i],
             bsdfs: vec![*k],
+            dielectrics: vec![*g],
             expect: vec![cpu.clone()],
             ..specs().into_iter().find(|s| s.name == "ggx_conductor_sample").unwrap()
         };

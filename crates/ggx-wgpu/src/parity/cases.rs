@@ -3,7 +3,10 @@
 use bytemuck::{Pod, Zeroable};
 use ggx_core::fresnel::{FresnelParams, fresnel_complex, fresnel_dielectric, fresnel_schlick};
 use ggx_core::sequence::{self as seq, CounterRng, SampleStream, SequenceKind};
-use ggx_core::{Frame, Fresnel, GgxConductor, Sampling, TrowbridgeReitz, alpha, math, mis, reflect, warp};
+use ggx_core::{
+    Frame, Fresnel, GgxConductor, GgxDielectric, Sampling, TransportMode, TrowbridgeReitz, alpha, clamp_eta, math, mis,
+    reflect, refract, warp,
+};
 use glam::{Vec2, Vec3};
 
 use super::{Bound, Contract};
@@ -84,12 +87,28 @@ pub(super) struct Group {
     /// What ggx-core promises about the words if they are floats; `None` for words compared
     /// bit for bit as integers (flags, sequences, layout).
     pub(super) contract: Option<Contract>,
+    /// A separately named bound for the cases its predicate selects, instead of `bound`.
+    pub(super) special: Option<Special>,
+}
+
+/// A named bound that replaces a group's own for the cases `applies` selects (given the case
+/// and ggx-core's words).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Special {
+    /// The bound's name in the log (a constant of this file).
+    pub(super) name: &'static str,
+    /// The tolerance in those cases.
+    pub(super) bound: Bound,
+    /// Which cases, in words, for the log.
+    pub(super) what: &'static str,
+    /// Selects the cases.
+    pub(super) applies: fn(&Input, &[Expect]) -> bool,
 }
 
 impl Group {
     /// `words` floats held to `bound` and to [`Contract::Finite`].
     pub(super) const fn float(name: &'static str, words: usize, bound: Bound) -> Self {
-        Group { name, words, bound, contract: Some(Contract::Finite) }
+        Group { name, words, bound, contract: Some(Contract::Finite), special: None }
     }
 
     /// A single float output, held to `bound` and to [`Contract::Finite`].
@@ -99,7 +118,7 @@ impl Group {
 
     /// `words` integer words (flags, sequence bits, layout) that must match bit for bit.
     pub(super) const fn bits(name: &'static str, words: usize) -> Self {
-        Group { name, words, bound: Bound::Exact, contract: None }
+        Group { name, words, bound: Bound::Exact, contract: None, special: None }
     }
 }
 
@@ -111,16 +130,18 @@ pub(super) struct Spec {
     pub(super) groups: Vec<Group>,
     pub(super) cases: Vec<Input>,
     pub(super) bsdfs: Vec<GgxConductor>,
+    /// One dielectric per case (zero for the rows that do not read one).
+    pub(super) dielectrics: Vec<GgxDielectric>,
     pub(super) expect: Vec<Vec<Expect>>,
     /// For outputs computed from an earlier output that the GPU may round differently: given a
-    /// case, its conductor, the GPU's words and ggx-core's, the expectation to use instead
+    /// case, its conductor and dielectric, the GPU's words and ggx-core's, the expectation to use instead
     /// (ggx-core's values at the GPU's intermediate result), or `None` to keep ggx-core's; and
     /// the words it replaces, noted on the log lines of such cases.
     pub(super) rebase: Option<(Rebase, &'static str)>,
 }
 
 /// See [`Spec::rebase`].
-pub(super) type Rebase = fn(&Input, &GgxConductor, &[u32], &[Expect]) -> Option<Vec<Expect>>;
+pub(super) type Rebase = fn(&Input, &GgxConductor, &GgxDielectric, &[u32], &[Expect]) -> Option<Vec<Expect>>;
 
 impl Spec {
     /// Lets the row's float words return NaN and infinities where ggx-core does
@@ -152,7 +173,22 @@ impl Specs {
     {
         let (cases, bsdfs): (Vec<Input>, Vec<GgxConductor>) = cases.into_iter().unzip();
         let expect = cases.iter().zip(&bsdfs).map(|(i, k)| cpu(i, k)).collect();
-        self.0.push(Spec { name, groups: groups.to_vec(), cases, bsdfs, expect, rebase: None });
+        let dielectrics = vec![GgxDielectric::zeroed(); cases.len()];
+        self.0.push(Spec { name, groups: groups.to_vec(), cases, bsdfs, dielectrics, expect, rebase: None });
+        self.0.last_mut().expect("just pushed")
+    }
+
+    /// Adds a row whose cases carry a dielectric (and a zero conductor): `cpu` gives ggx-core's
+    /// outputs for each case.
+    fn dielectric_row<I, F>(&mut self, name: &'static str, groups: &[Group], cases: I, cpu: F) -> &mut Spec
+    where
+        I: IntoIterator<Item = (Input, GgxDielectric)>,
+        F: Fn(&Input, &GgxDielectric) -> Vec<Expect>,
+    {
+        let (cases, dielectrics): (Vec<Input>, Vec<GgxDielectric>) = cases.into_iter().unzip();
+        let expect = cases.iter().zip(&dielectrics).map(|(i, k)| cpu(i, k)).collect();
+        let bsdfs = vec![GgxConductor::zeroed(); cases.len()];
+        self.0.push(Spec { name, groups: groups.to_vec(), cases, bsdfs, dielectrics, expect, rebase: None });
         self.0.last_mut().expect("just pushed")
     }
 }
@@ -442,6 +478,105 @@ fn none() -> GgxConductor {
     GgxConductor::zeroed()
 }
 
+/// Relative IORs of the dielectric rows: glass seen from both sides, water, diamond and an
+/// index-matched interface.
+const ETAS: [f32; 5] = [1.5, 1.0 / 1.5, 1.33, 2.4, 1.0];
+
+/// Raw `eta` fields (ggx-core and the WGSL read them through `clamp_eta`): zero, negative,
+/// NaN, infinities, subnormal, both clamp edges and beyond them, huge.
+const ODD_ETAS: [f32; 13] = [0.0, -0.0, -1.0, NAN, INF, -INF, 1e-40, 1e-3, 1e-2, 100.0, 1e3, 1e30, f32::MAX];
+
+/// Dielectrics: every [`ETAS`] value at the delta alpha 1e-4, at `DELTA_ALPHA`, rough,
+/// fully rough and anisotropic; every [`ODD_ETAS`] field at alpha 0.3 and four at 1e-4 (the
+/// smooth interface); alpha edges with the etas in turn; raw alpha fields
+/// ([`RAW_CONDUCTOR_ALPHAS`]) with the etas in turn.
+fn dielectrics() -> Vec<GgxDielectric> {
+    let main = [(1e-4, 1e-4), (1e-3, 1e-3), (0.01, 0.01), (0.3, 0.3), (1.0, 1.0), (0.05, 0.5)]
+        .into_iter()
+        .flat_map(|(x, y)| ETAS.map(|eta| GgxDielectric::new(x, y, eta)));
+    let odd = ODD_ETAS.into_iter().map(|eta| GgxDielectric { eta, ..GgxDielectric::isotropic(0.3, 1.5) });
+    let odd_smooth =
+        [NAN, 0.0, -1.0, 1e30].into_iter().map(|eta| GgxDielectric { eta, ..GgxDielectric::isotropic(1e-4, 1.5) });
+    let edges = [(0.0, 0.0), (9.99e-4, 9.99e-4), (0.01, 1.0), (0.5, 0.005), (1e-4, 1e-2)]
+        .into_iter()
+        .enumerate()
+        .map(|(i, (x, y))| GgxDielectric::new(x, y, ETAS[i % ETAS.len()]));
+    let raw = RAW_CONDUCTOR_ALPHAS.into_iter().enumerate().map(|(i, (alpha_x, alpha_y))| GgxDielectric {
+        distribution: TrowbridgeReitz { alpha_x, alpha_y },
+        eta: ETAS[(i + 2) % ETAS.len()],
+        pad: 0,
+    });
+    main.chain(odd).chain(odd_smooth).chain(edges).chain(raw).collect()
+}
+
+/// Cosine of the critical angle on the denser side of an interface with relative IOR `e`.
+fn critical_cos(e: f64) -> f64 {
+    let e = e.max(1.0 / e);
+    (1.0 - 1.0 / (e * e)).sqrt()
+}
+
+/// Cosines of the dielectric directions: both sides down to grazing, 0, and both sides of the
+/// critical angles of eta 1.5 and 2.4 (on both sides of the interface).
+fn dielectric_cos() -> Vec<f64> {
+    let mut cos = vec![1.0, 0.9, 0.5, 0.1, 1e-3, 1e-7, 0.0, -1e-7, -1e-3, -0.3, -0.7, -1.0];
+    for e in [1.5, 2.4] {
+        let c = critical_cos(e);
+        cos.extend([c - 1e-4, c + 1e-4, -(c - 1e-4), -(c + 1e-4)]);
+    }
+    cos
+}
+
+/// Directions of the dielectric pairs: [`dielectric_cos`] at azimuths 0 and pi (so that pairs
+/// include mirror pairs, whose half vector is the normal), plus zero, NaN and non-unit vectors.
+fn dielectric_directions() -> Vec<Vec3> {
+    let grid = dielectric_cos().into_iter().flat_map(|c| [0.0, std::f64::consts::PI].map(|p| spherical(c, p)));
+    grid.chain([Vec3::ZERO, Vec3::new(NAN, 0.0, 1.0), Vec3::new(0.3, -0.4, -1.2)]).collect()
+}
+
+/// Pairs around the critical angle of each IOR `e` (1.5, 1.33, 2.4, from the denser side,
+/// which is `-z` for `e > 1` and `+z` for `1 / e`): `wo` at cosines `c + delta`, and `wi` its
+/// mirror image (half vector = the normal: `F(wo.z)`, total internal reflection beyond `c`) and
+/// its refraction (computed in f64, grazing near `c`); each with the dielectrics of that IOR.
+fn critical_pairs() -> Vec<(Vec3, Vec3, GgxDielectric)> {
+    let mut out = Vec::new();
+    for e in [1.5f64, 1.33, 2.4] {
+        let c = critical_cos(e);
+        for (eta, side) in [(e as f32, -1.0), ((1.0 / e) as f32, 1.0)] {
+            for delta in [-1e-3, -1e-5, -1e-6, 0.0, 1e-6, 1e-5, 1e-3] {
+                let cos_i = c + delta;
+                let wo = spherical(side * cos_i, 0.7);
+                let mirror = spherical(side * cos_i, 0.7 + std::f64::consts::PI);
+                let sin_t = e * (1.0 - cos_i * cos_i).max(0.0).sqrt();
+                let mut wis = vec![mirror];
+                if sin_t < 1.0 {
+                    wis.push(spherical(-side * (1.0 - sin_t * sin_t).sqrt(), 0.7 + std::f64::consts::PI));
+                }
+                for wi in wis {
+                    for alpha in [0.01, 0.3, 1.0] {
+                        out.push((wo, wi, GgxDielectric::isotropic(alpha, eta)));
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Sampling techniques of a dielectric pair case: NDF, one visible-normal technique (VNDF,
+/// spherical caps, bounded, unknown in turn) and one refused one (cosine, uniform in turn).
+fn dielectric_samplings(j: usize) -> [u32; 3] {
+    [0, [1, 2, 3, 9][j % 4], [4, 5][j % 2]]
+}
+
+/// `u_lobe` values of the dielectric sample row, used in turn (11 values, so that with the
+/// two transport modes in turn every combination occurs every 22 cases): 0, small, middle,
+/// `1 - ulp`, 1 and beyond, negative, NaN and infinity.
+const U_LOBES: [f32; 11] = [0.0, 0.02, 0.1, 0.5, 0.9, ONE_MINUS_ULP, 1.0, 2.0, -0.5, NAN, INF];
+
+fn mode(m: u32) -> TransportMode {
+    TransportMode::from_u32(m)
+}
+
 // ---------------------------------------------------------------------------------------------
 // The rows
 // ---------------------------------------------------------------------------------------------
@@ -462,7 +597,13 @@ fn sample_words(sample: Option<ggx_core::BsdfSample>) -> Vec<Expect> {
 /// direction, by far more than their own rounding where the Fresnel term cancels (a conductor
 /// channel with `eta = 1, k = 0`: 0 against 1e-11). The direction words keep ggx-core's own
 /// `wi` as reference; a GPU `wi` outside `UNIT` fails the `wi` group.
-fn sample_at_gpu_wi(i: &Input, k: &GgxConductor, got: &[u32], cpu: &[Expect]) -> Option<Vec<Expect>> {
+fn sample_at_gpu_wi(
+    i: &Input,
+    k: &GgxConductor,
+    _: &GgxDielectric,
+    got: &[u32],
+    cpu: &[Expect],
+) -> Option<Vec<Expect>> {
     let same_wi = (2..5).all(|w| matches!(cpu[w], Expect::Float(c) if c.to_bits() == got[w]));
     if same_wi || !matches!((cpu[0], cpu[1]), (Expect::Bits(1), Expect::Bits(0))) || got[..2] != [1, 0] {
         return None;
@@ -471,6 +612,31 @@ fn sample_at_gpu_wi(i: &Input, k: &GgxConductor, got: &[u32], cpu: &[Expect]) ->
     let wo = i.va();
     let pdf = k.pdf(wo, wi, Sampling::from_u32(i.n[0]));
     let weight = k.eval(wo, wi) / pdf;
+    let mut e = cpu[..5].to_vec();
+    e.extend(floats(&[weight.x, weight.y, weight.z, pdf]));
+    Some(e)
+}
+
+/// [`sample_at_gpu_wi`] for `ggx_dielectric_sample`: where the GPU's `wi` differs from
+/// ggx-core's in a valid, non-delta sample of both, ggx-core's `pdf(wo, wi, sampling, mode)`
+/// and `eval(wo, wi, mode) / pdf` at the GPU's `wi` (the sample's weight `G2 / G1` or
+/// `G2 |wo.wm| / (|wo.z| wm.z)`, times `1 / eta'^2`, equals `eval / pdf` to a few roundings).
+/// A delta sample's weight and pdf do not depend on `wi` and are never rebased.
+fn dielectric_sample_at_gpu_wi(
+    i: &Input,
+    _: &GgxConductor,
+    k: &GgxDielectric,
+    got: &[u32],
+    cpu: &[Expect],
+) -> Option<Vec<Expect>> {
+    let same_wi = (2..5).all(|w| matches!(cpu[w], Expect::Float(c) if c.to_bits() == got[w]));
+    if same_wi || !matches!((cpu[0], cpu[1]), (Expect::Bits(1), Expect::Bits(0))) || got[..2] != [1, 0] {
+        return None;
+    }
+    let wi = Vec3::new(f32::from_bits(got[2]), f32::from_bits(got[3]), f32::from_bits(got[4]));
+    let (wo, m) = (i.va(), mode(i.n[1]));
+    let pdf = k.pdf(wo, wi, Sampling::from_u32(i.n[0]), m);
+    let weight = k.eval(wo, wi, m) / pdf;
     let mut e = cpu[..5].to_vec();
     e.extend(floats(&[weight.x, weight.y, weight.z, pdf]));
     Some(e)
@@ -497,6 +663,41 @@ const SAMPLE_WEIGHT: Bound = FORMULA;
 /// absolute escape; bit-identical to ggx-core on llvmpipe in every case (at the GPU's `wi`
 /// where it differs).
 const SAMPLE_PDF: Bound = FORMULA;
+
+/// Bound for the refracted directions of `ggx_dielectric_sample` (valid, non-delta samples whose
+/// `wi` crossed the surface): four times [`UNIT`] (64 ulp or 2^-18). The microfacet samplers'
+/// `wm` may be a couple of ulp from ggx-core's (`sample_wm_ndf` measures 2 on llvmpipe, within
+/// `UNIT`), and `refract` amplifies an error in the normal by `~ cos_i / (eta'^2 cos_t)`, which grows
+/// without bound towards grazing transmission: from inside eta 2.4 at `sin_t = 0.91` one ulp of
+/// `wm.z` moves `wi.z` by 12 ulp (GPU 0.72910917 = ggx-core's `refract` of its `wm` two ulps off in
+/// x and z, exactly). The same operations in the same order on both sides (the rows `refract`,
+/// `ggx_dielectric_eval` and `ggx_dielectric_pdf` are bit-identical); reflected and delta samples
+/// keep [`UNIT`].
+const REFRACTED_UNIT: Bound = Bound::UlpsOrAbs(64, 4.0 / 1_048_576.0);
+
+/// True for a valid, non-delta `ggx_dielectric_sample` output of ggx-core whose `wi` lies on the
+/// other side of `wo` (transmission).
+fn is_refracted_sample(i: &Input, cpu: &[Expect]) -> bool {
+    let z = |e: Expect| if let Expect::Float(x) = e { x } else { 0.0 };
+    matches!((cpu[0], cpu[1]), (Expect::Bits(1), Expect::Bits(0))) && i.a[2] * z(cpu[4]) < 0.0
+}
+
+/// `ggx_dielectric_sample`'s output words: [`SAMPLE_GROUPS`], the direction under
+/// [`REFRACTED_UNIT`] where the sample was refracted.
+pub(super) const DIELECTRIC_SAMPLE_GROUPS: [Group; 4] = [
+    SAMPLE_GROUPS[0],
+    Group {
+        special: Some(Special {
+            name: "REFRACTED_UNIT",
+            bound: REFRACTED_UNIT,
+            what: "refracted microfacet samples",
+            applies: is_refracted_sample,
+        }),
+        ..SAMPLE_GROUPS[1]
+    },
+    SAMPLE_GROUPS[2],
+    SAMPLE_GROUPS[3],
+];
 
 /// `ggx_conductor_sample`'s output words (`put_*` in parity.wgsl): flags, the direction, the
 /// weight and the pdf, each with its own bound.
@@ -732,6 +933,77 @@ pub(super) fn specs() -> Vec<Spec> {
     })
     .rebase(sample_at_gpu_wi, "weight, pdf: cpu at the gpu's wi");
 
+    // dielectric.rs
+    let eta_cases = scalars().into_iter().chain(ODD_ETAS).chain(ETAS).map(|x| (Input::scalar(x), none()));
+    s.row("clamp_eta", &[Group::value(Bound::Exact)], eta_cases, |i, _| floats(&[clamp_eta(i.a[0])]));
+    let normals = [Vec3::Z, -Vec3::Z, spherical(0.8, 1.0), spherical(-0.6, 2.0), Vec3::new(0.0, 0.0, 2.0), Vec3::ZERO];
+    let refract_etas: Vec<f32> = ETAS.into_iter().chain(ODD_ETAS).collect();
+    let refract_cases = directions()
+        .into_iter()
+        .chain(dielectric_directions())
+        .flat_map(|w| {
+            let etas = refract_etas.clone();
+            normals.into_iter().flat_map(move |n| etas.clone().into_iter().map(move |eta| (w, n, eta)))
+        })
+        .chain(critical_pairs().into_iter().map(|(wo, _, k)| (wo, Vec3::Z, k.eta)))
+        .map(|(w, n, eta)| (Input { c: [eta, 0.0, 0.0, 0.0], ..Input::pair(w, n) }, none()));
+    s.row("refract", &[Group::bits("valid", 1), Group::float("wt", 3, UNIT)], refract_cases, |i, _| {
+        let r = refract(i.va(), i.vb(), i.c[0]);
+        let mut e = words(&[r.is_some() as u32]);
+        e.extend(floats(&v3(r.unwrap_or(Vec3::ZERO))));
+        e
+    });
+    let dielectric_pairs = || {
+        let dirs = dielectric_directions();
+        dielectrics()
+            .into_iter()
+            .flat_map(move |k| {
+                let dirs = dirs.clone();
+                dirs.clone().into_iter().flat_map(move |a| dirs.clone().into_iter().map(move |b| (a, b, k)))
+            })
+            .chain(critical_pairs())
+    };
+    let eval_cases =
+        dielectric_pairs().flat_map(|(a, b, k)| [0, 1].map(|m| (Input { n: [0, m, 0, 0], ..Input::pair(a, b) }, k)));
+    s.dielectric_row("ggx_dielectric_eval", &[Group::float("rgb", 3, FORMULA)], eval_cases, |i, k| {
+        floats(&v3(k.eval(i.va(), i.vb(), mode(i.n[1]))))
+    });
+    let pdf_cases = dielectric_pairs().enumerate().flat_map(|(j, (a, b, k))| {
+        dielectric_samplings(j).map(|t| (Input { n: [t, (j % 2) as u32, 0, 0], ..Input::pair(a, b) }, k))
+    });
+    s.dielectric_row("ggx_dielectric_pdf", &[Group::value(FORMULA)], pdf_cases, |i, k| {
+        floats(&[k.pdf(i.va(), i.vb(), Sampling::from_u32(i.n[0]), mode(i.n[1]))])
+    });
+    let sample_wo: Vec<Vec3> = dielectric_cos()
+        .into_iter()
+        .map(|c| spherical(c, 2.3))
+        .chain([
+            Vec3::new(NAN, 0.0, 1.0),
+            Vec3::new(0.0, 0.0, -INF),
+            Vec3::new(0.3, -0.4, -1.2),
+            Vec3::new(1e-20, 0.0, 1e-20),
+        ])
+        .collect();
+    let sample_u = us(&[0.0, 0.5, 0.77, ONE_MINUS_ULP]);
+    let sample_cases = dielectrics().into_iter().flat_map(|k| {
+        let (sample_wo, sample_u) = (sample_wo.clone(), sample_u.clone());
+        sample_wo.into_iter().flat_map(move |wo| {
+            let sample_u = sample_u.clone();
+            SAMPLINGS.into_iter().flat_map(move |t| {
+                // Cosine and uniform are refused whatever u is: one u each.
+                let us = if t == 4 || t == 5 { sample_u[..1].to_vec() } else { sample_u.clone() };
+                us.into_iter().enumerate().map(move |(j, u)| {
+                    let c = [u.x, u.y, U_LOBES[j % U_LOBES.len()], 0.0];
+                    (Input { c, n: [t, (j % 2) as u32, 0, 0], ..Input::dir(wo) }, k)
+                })
+            })
+        })
+    });
+    s.dielectric_row("ggx_dielectric_sample", &DIELECTRIC_SAMPLE_GROUPS, sample_cases, |i, k| {
+        sample_words(k.sample(i.va(), i.u(), i.c[2], Sampling::from_u32(i.n[0]), mode(i.n[1])))
+    })
+    .rebase(dielectric_sample_at_gpu_wi, "weight, pdf: cpu at the gpu's wi");
+
     // mis.rs
     let pdfs = [0.0, -1.0, NAN, INF, -INF, f32::MAX, f32::MIN_POSITIVE, 1e-30, 0.5, 1.0, 3.0, 1e30];
     // Counts 0, NaN and +inf against densities +inf and 0: the products 0 inf that ggx-core
@@ -926,6 +1198,15 @@ pub(super) fn specs() -> Vec<Spec> {
         &[Group::bits("alpha", 2), Group::bits("pad", 2), Group::bits("fresnel", 12)],
         odd.into_iter().map(|k| (Input::default(), k)),
         |_, k| words(bytemuck::cast_slice::<GgxConductor, u32>(std::slice::from_ref(k))),
+    );
+    // Layout: every word of the uploaded GgxDielectric read back field by field.
+    let mut odd = dielectrics();
+    odd.push(GgxDielectric { pad: 0xdead_beef, ..odd[3] });
+    s.dielectric_row(
+        "ggx_dielectric_layout",
+        &[Group::bits("alpha", 2), Group::bits("eta", 1), Group::bits("pad", 1)],
+        odd.into_iter().map(|k| (Input::default(), k)),
+        |_, k| words(bytemuck::cast_slice::<GgxDielectric, u32>(std::slice::from_ref(k))),
     );
     s.0
 }

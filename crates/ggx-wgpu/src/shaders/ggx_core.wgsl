@@ -13,9 +13,10 @@
 // (inf and NaN propagate, division by zero gives inf), which the parity harness checks on the
 // adapter it runs on.
 //
-// Layout: `TrowbridgeReitz` (8 bytes), `FresnelParams` (48), `GgxConductor` (64), `CounterRng`
-// (8) and `SampleStream` (16) match the Rust `#[repr(C)]` structs byte for byte. `Frame` and
-// `BsdfSample` are values only (the Rust `Frame` packs three 12-byte `Vec3`s).
+// Layout: `TrowbridgeReitz` (8 bytes), `FresnelParams` (48), `GgxConductor` (64), `GgxDielectric`
+// (16), `CounterRng` (8) and `SampleStream` (16) match the Rust `#[repr(C)]` structs byte for
+// byte. `Frame`, `BsdfSample`, `Refracted` and `Half` are values only (the Rust `Frame` packs
+// three 12-byte `Vec3`s). `TransportMode` is its `u32` discriminant.
 
 // ---------------------------------------------------------------------------------------------
 // Constants
@@ -729,6 +730,300 @@ fn ggx_conductor_sample(bsdf: GgxConductor, wo_in: vec3<f32>, u_in: vec2<f32>, s
         return none;
     }
     return BsdfSample(wi, weight, pdf, 0u, 1u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// dielectric.rs: GgxDielectric
+// ---------------------------------------------------------------------------------------------
+
+// Smallest and largest relative index of refraction used in any formula.
+const ETA_MIN: f32 = 1e-2f;
+const ETA_MAX: f32 = 1e2f;
+
+// `ggx_core::TransportMode` discriminants (TransportMode::from_u32: 1 is importance, anything
+// else radiance).
+const TRANSPORT_RADIANCE: u32 = 0u;
+const TRANSPORT_IMPORTANCE: u32 = 1u;
+
+struct GgxDielectric {
+    distribution: TrowbridgeReitz,
+    eta: f32,
+    pad: u32,
+}
+
+// `Option<Vec3>` of `refract`: `valid` 1 for `Some`, 0 (and `wt` zero) for `None`.
+struct Refracted {
+    wt: vec3<f32>,
+    valid: u32,
+}
+
+// `Option<Half>` of `ggx_dielectric_half`: the generalized half vector and what is derived
+// from it; `valid` false (every other field zero) for `None`.
+struct Half {
+    wm: vec3<f32>,
+    reflect: bool,
+    etap: f32,
+    cos_om: f32,
+    p_lobe: f32,
+    jacobian: f32,
+    valid: bool,
+}
+
+// clamp(eta, ETA_MIN, ETA_MAX); NaN, zero and negative -> 1 (an index-matched interface).
+fn clamp_eta(eta: f32) -> f32 {
+    if is_nan(eta) || !(eta > 0.0) {
+        return 1.0;
+    }
+    return min_num(max_num(eta, ETA_MIN), ETA_MAX);
+}
+
+// wt = -w / eta' + (cos_i / eta' - cos_t) n', n' = -n and eta' = 1 / eta when w.n < 0; None under
+// total internal reflection (sin2_t = (1 - cos_i^2) / eta'^2 not below 1) or for a non-finite
+// result; pbrt-v4 Refract.
+fn refract(w: vec3<f32>, n_in: vec3<f32>, eta_in: f32) -> Refracted {
+    var none: Refracted;
+    var eta = clamp_eta(eta_in);
+    var n = n_in;
+    var cos_i = min_num(max_num(dot3(w, n), -1.0), 1.0);
+    if cos_i < 0.0 {
+        eta = 1.0 / eta;
+        cos_i = -cos_i;
+        n = -n;
+    }
+    // The same test as `fresnel_dielectric`'s total internal reflection, so F < 1 <=> valid.
+    let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
+    if !(sin2_t < 1.0) {
+        return none;
+    }
+    let cos_t = safe_sqrt(1.0 - sin2_t);
+    let wt = -w / eta + (cos_i / eta - cos_t) * n;
+    if is_finite3(wt) {
+        return Refracted(wt, 1u);
+    }
+    return none;
+}
+
+// dwm/dwi = eta'^2 |wi.wm| / (wo.wm + eta' wi.wm)^2; Walter et al. 2007 eq. 17.
+fn jacobian_transmission(etap: f32, cos_om: f32, cos_im: f32) -> f32 {
+    let s = cos_om + etap * cos_im;
+    return etap * etap * abs(cos_im) / (s * s);
+}
+
+// dwm/dwi = 1 / (4 |wo.wm|); Walter et al. 2007 eq. 14.
+fn jacobian_reflection(cos_om: f32) -> f32 {
+    return 1.0 / (4.0 * abs(cos_om));
+}
+
+// 1 / eta'^2 for transmitted radiance, 1 for importance and for reflection; Veach 1997 eq. 5.16.
+fn transport_scale(reflect: bool, etap: f32, mode: u32) -> f32 {
+    if reflect || mode == TRANSPORT_IMPORTANCE {
+        return 1.0;
+    }
+    return 1.0 / (etap * etap);
+}
+
+// sign(wo.z) wo: the side whose visible normals the samplers draw.
+fn visible_side(wo: vec3<f32>) -> vec3<f32> {
+    return select(wo, -wo, wo.z < 0.0);
+}
+
+// GgxDielectric::eta: clamp_eta of the field.
+fn ggx_dielectric_eta(bsdf: GgxDielectric) -> f32 {
+    return clamp_eta(bsdf.eta);
+}
+
+// Smooth interface: both alphas below DELTA_ALPHA.
+fn ggx_dielectric_is_delta(bsdf: GgxDielectric) -> bool {
+    return is_effectively_smooth(bsdf.distribution);
+}
+
+// wm = normalize(wo + eta' wi) turned to +z (eta' = 1 for reflection, eta or 1 / eta by the side
+// of wo); None for a horizontal or zero direction, a zero wm or unless wo.wm has the sign of wo.z
+// and wi.wm that of wi.z; P(lobe) = F(wo.wm) or 1 - F (pbrt-v3 #254); Walter et al. 2007 eq. 13/16.
+fn ggx_dielectric_half(bsdf: GgxDielectric, wo: vec3<f32>, wi: vec3<f32>) -> Half {
+    var none: Half;
+    let side = wo.z * wi.z;
+    if side == 0.0 || is_nan(side) {
+        return none;
+    }
+    let reflect = side > 0.0;
+    let eta = ggx_dielectric_eta(bsdf);
+    var etap = 1.0;
+    if !reflect {
+        if wo.z > 0.0 {
+            etap = eta;
+        } else {
+            etap = 1.0 / eta;
+        }
+    }
+    var wm = normalize_or_zero(wo + etap * wi);
+    // Rust `!(wm.z != 0.0)`; WGSL `!=` is ordered (false for NaN), so test equality instead.
+    if wm.z == 0.0 {
+        return none;
+    }
+    if wm.z < 0.0 {
+        wm = -wm;
+    }
+    let cos_om = dot3(wo, wm);
+    let cos_im = dot3(wi, wm);
+    if !(cos_om * wo.z > 0.0 && cos_im * wi.z > 0.0) {
+        return none;
+    }
+    let f = fresnel_dielectric(cos_om, eta);
+    var p_lobe: f32;
+    var jacobian: f32;
+    if reflect {
+        p_lobe = f;
+        jacobian = jacobian_reflection(cos_om);
+    } else {
+        p_lobe = 1.0 - f;
+        jacobian = jacobian_transmission(etap, cos_om, cos_im);
+    }
+    return Half(wm, reflect, etap, cos_om, p_lobe, jacobian, true);
+}
+
+// p(wi) = P(lobe) p(wm) dwm/dwi, p(wm) = D(wm) wm.z (NDF) or D_wo'(wm), wo' = sign(wo.z) wo
+// (VNDF, spherical caps, bounded and unknown techniques); 0 for cosine and uniform.
+fn ggx_dielectric_pdf_half(bsdf: GgxDielectric, wo: vec3<f32>, h: Half, sampling: u32) -> f32 {
+    let dist = bsdf.distribution;
+    var p_wm: f32;
+    switch sampling {
+        case SAMPLING_NDF: {
+            p_wm = pdf_wm_ndf(dist, h.wm);
+        }
+        case SAMPLING_COSINE, SAMPLING_UNIFORM: {
+            p_wm = 0.0;
+        }
+        default: {
+            p_wm = d_visible(dist, visible_side(wo), h.wm);
+        }
+    }
+    return finite_or_zero(h.p_lobe * p_wm * h.jacobian);
+}
+
+// f |wi.z| = F D G2 / (4 |wo.z|) (reflection) or (1 - F) D G2 |wo.wm| dwm/dwi / |wo.z| (transmission,
+// / eta'^2 for radiance), as P(lobe) (D G2) |wo.wm / wo.z| dwm/dwi scale; Walter et al. 2007 eq. 20-21.
+fn ggx_dielectric_eval(bsdf: GgxDielectric, wo_in: vec3<f32>, wi_in: vec3<f32>, mode: u32) -> vec3<f32> {
+    let wo = normalize_or_zero(wo_in);
+    let wi = normalize_or_zero(wi_in);
+    if ggx_dielectric_is_delta(bsdf) {
+        return vec3(0.0);
+    }
+    let h = ggx_dielectric_half(bsdf, wo, wi);
+    if !h.valid {
+        return vec3(0.0);
+    }
+    let dist = bsdf.distribution;
+    let dg = d(dist, h.wm) * g2(dist, wo, wi);
+    let f = h.p_lobe * dg * abs(h.cos_om / wo.z) * h.jacobian * transport_scale(h.reflect, h.etap, mode);
+    return vec3(finite_or_zero(f));
+}
+
+// Solid-angle density of `ggx_dielectric_sample`: P(lobe) p(wm) dwm/dwi (`mode` does not change it);
+// 0 for a smooth interface and degenerate input.
+fn ggx_dielectric_pdf(bsdf: GgxDielectric, wo_in: vec3<f32>, wi_in: vec3<f32>, sampling: u32, mode: u32) -> f32 {
+    let wo = normalize_or_zero(wo_in);
+    let wi = normalize_or_zero(wi_in);
+    if ggx_dielectric_is_delta(bsdf) {
+        return 0.0;
+    }
+    let h = ggx_dielectric_half(bsdf, wo, wi);
+    if !h.valid {
+        return 0.0;
+    }
+    return ggx_dielectric_pdf_half(bsdf, wo, h, sampling);
+}
+
+// wm from u (visible normals of sign(wo.z) wo, NDF; bounded -> spherical caps), reflect when
+// u_lobe < F(wo.wm) else refract; weight G2 / G1(wo) (visible) or G2 |wo.wm| / (|wo.z| wm.z) (NDF),
+// / eta'^2 for transmitted radiance. Smooth: mirror (pdf F, weight 1) or refraction (pdf 1 - F,
+// weight 1 / eta'^2 or 1). Cosine and uniform refused.
+fn ggx_dielectric_sample(
+    bsdf: GgxDielectric,
+    wo_in: vec3<f32>,
+    u: vec2<f32>,
+    u_lobe_in: f32,
+    sampling: u32,
+    mode: u32,
+) -> BsdfSample {
+    var none: BsdfSample;
+    let wo = normalize_or_zero(wo_in);
+    // Rust `!(wo.z != 0.0)`: equality, since WGSL `!=` is ordered.
+    if wo.z == 0.0 || sampling == SAMPLING_COSINE || sampling == SAMPLING_UNIFORM {
+        return none;
+    }
+    let eta = ggx_dielectric_eta(bsdf);
+    let u_lobe = sanitize_u(u_lobe_in);
+    if ggx_dielectric_is_delta(bsdf) {
+        let f = fresnel_dielectric(wo.z, eta);
+        if u_lobe < f {
+            return BsdfSample(vec3(-wo.x, -wo.y, wo.z), vec3(1.0), f, 1u, 1u);
+        }
+        let r = refract(wo, vec3(0.0, 0.0, 1.0), eta);
+        if r.valid == 0u {
+            return none;
+        }
+        let wi = normalize_or_zero(r.wt);
+        var etap = eta;
+        if !(wo.z > 0.0) {
+            etap = 1.0 / eta;
+        }
+        let pdf = 1.0 - f;
+        let weight = transport_scale(false, etap, mode);
+        if !(wi.z * wo.z < 0.0 && pdf > 0.0 && is_finite(weight)) {
+            return none;
+        }
+        return BsdfSample(wi, vec3(weight), pdf, 1u, 1u);
+    }
+    let dist = bsdf.distribution;
+    let wv = visible_side(wo);
+    var wm: vec3<f32>;
+    switch sampling {
+        case SAMPLING_NDF: {
+            wm = sample_wm_ndf(dist, u);
+        }
+        case SAMPLING_SPHERICAL_CAPS, SAMPLING_BOUNDED: {
+            wm = sample_wm_spherical_caps(dist, wv, u);
+        }
+        default: {
+            wm = sample_wm_vndf(dist, wv, u);
+        }
+    }
+    let cos_om = dot3(wo, wm);
+    if !(cos_om * wo.z > 0.0) {
+        return none;
+    }
+    let reflected = u_lobe < fresnel_dielectric(cos_om, eta);
+    var wi: vec3<f32>;
+    if reflected {
+        wi = reflect(wo, wm);
+    } else {
+        let r = refract(wo, wm, eta);
+        if r.valid == 0u {
+            return none;
+        }
+        wi = r.wt;
+    }
+    wi = normalize_or_zero(wi);
+    // Weight and pdf from the half vector of the returned pair (see dielectric.rs).
+    let h = ggx_dielectric_half(bsdf, wo, wi);
+    if !h.valid || h.reflect != reflected {
+        return none;
+    }
+    let pdf = ggx_dielectric_pdf_half(bsdf, wo, h, sampling);
+    let g2_wo_wi = g2(dist, wo, wi);
+    var ratio: f32;
+    if sampling == SAMPLING_NDF {
+        ratio = g2_wo_wi * abs(h.cos_om / wo.z) / h.wm.z;
+    } else {
+        // G2 / G1(wo) <= 1.
+        ratio = min_num(g2_wo_wi / g1(dist, wo), 1.0);
+    }
+    let weight = ratio * transport_scale(h.reflect, h.etap, mode);
+    if !(pdf > 0.0 && is_finite(pdf) && is_finite(weight)) {
+        return none;
+    }
+    return BsdfSample(wi, vec3(weight), pdf, 0u, 1u);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -17,6 +17,8 @@ struct ParityIn {
 // also exercises the Rust/WGSL struct layout.
 @group(0) @binding(1) var<storage, read> bsdfs: array<GgxConductor>;
 @group(0) @binding(2) var<storage, read_write> outputs: array<u32>;
+// One dielectric per case (zero for the other rows): the dielectric functions read it from here.
+@group(0) @binding(3) var<storage, read> dielectrics: array<GgxDielectric>;
 
 override FUNC: u32;
 
@@ -84,6 +86,12 @@ const F_GGX_CONDUCTOR_LAYOUT: u32 = 57u;
 const F_PROBE: u32 = 58u;
 const F_SHUFFLE_INDEX_REVERSED: u32 = 59u;
 const F_SOBOL_OWEN_SHUFFLED: u32 = 60u;
+const F_CLAMP_ETA: u32 = 61u;
+const F_REFRACT: u32 = 62u;
+const F_GGX_DIELECTRIC_EVAL: u32 = 63u;
+const F_GGX_DIELECTRIC_PDF: u32 = 64u;
+const F_GGX_DIELECTRIC_SAMPLE: u32 = 65u;
+const F_GGX_DIELECTRIC_LAYOUT: u32 = 66u;
 
 var<private> out_base: u32;
 
@@ -141,6 +149,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let p = inputs[i];
     let bsdf = bsdfs[i];
     let dist = bsdf.distribution;
+    let dielectric = dielectrics[i];
     switch FUNC {
         case F_SAFE_SQRT: {
             put_f(0u, safe_sqrt(p.a.x));
@@ -372,6 +381,34 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             put_f(13u, bsdf.fresnel.b.y);
             put_f(14u, bsdf.fresnel.b.z);
             put_f(15u, bsdf.fresnel.b.w);
+        }
+        case F_CLAMP_ETA: {
+            put_f(0u, clamp_eta(p.a.x));
+        }
+        case F_REFRACT: {
+            let r = refract(p.a.xyz, p.b.xyz, p.c.x);
+            put_u(0u, r.valid);
+            put_v3(1u, r.wt);
+        }
+        case F_GGX_DIELECTRIC_EVAL: {
+            put_v3(0u, ggx_dielectric_eval(dielectric, p.a.xyz, p.b.xyz, p.n.y));
+        }
+        case F_GGX_DIELECTRIC_PDF: {
+            put_f(0u, ggx_dielectric_pdf(dielectric, p.a.xyz, p.b.xyz, p.n.x, p.n.y));
+        }
+        case F_GGX_DIELECTRIC_SAMPLE: {
+            let s = ggx_dielectric_sample(dielectric, p.a.xyz, p.c.xy, p.c.z, p.n.x, p.n.y);
+            put_u(0u, s.valid);
+            put_u(1u, s.is_delta);
+            put_v3(2u, s.wi);
+            put_v3(5u, s.weight);
+            put_f(8u, s.pdf);
+        }
+        case F_GGX_DIELECTRIC_LAYOUT: {
+            put_f(0u, dielectric.distribution.alpha_x);
+            put_f(1u, dielectric.distribution.alpha_y);
+            put_f(2u, dielectric.eta);
+            put_u(3u, dielectric.pad);
         }
         case F_PROBE: {
             probe(p);
