@@ -16,13 +16,23 @@ pub struct BsdfSample {
     pub wi: Vec3,
     /// `eval(wo, wi) / pdf`, i.e. `f |cos theta_i| / pdf`; for a delta lobe, `F`.
     pub weight: Vec3,
-    /// Solid-angle density of `wi` under the chosen technique; 1 for a delta lobe.
+    /// Solid-angle density of `wi` under the chosen technique. For a delta lobe, which has no
+    /// density, the discrete probability with which `sample` chose it (1 for a mirror
+    /// conductor, `F` or `1 - F` for a smooth dielectric); MIS takes [`Self::mis_pdf`].
     pub pdf: f32,
     /// True when the lobe is a mirror (alpha below [`crate::DELTA_ALPHA`]).
     pub is_delta: bool,
 }
 
 impl BsdfSample {
+    /// The density MIS helpers take ([`crate::mis`]): `+inf` for a delta lobe, so that it wins
+    /// against any light-sampling density (weight 1, as a delta direction can only be found by
+    /// the BSDF), otherwise `pdf` (NaN, negative and infinite values as 0).
+    #[inline]
+    pub fn mis_pdf(&self) -> f32 {
+        if self.is_delta { f32::INFINITY } else { finite_or_zero(self.pdf).max(0.0) }
+    }
+
     /// True when the sample crossed the surface (transmission): `wi` and `wo` lie on opposite
     /// sides, `wo.z wi.z < 0`. Reflection keeps the side, so this is exactly which lobe
     /// `sample` took (a method, not a field, so that every existing `BsdfSample { .. }`

@@ -2,7 +2,8 @@
 //! infinite, zero, negative and NaN densities.
 //!
 //! Densities are sanitized first: NaN and negative values count as 0. An infinite density
-//! (a delta lobe) wins against any finite one; two infinite densities share equally.
+//! (a delta lobe: [`crate::BsdfSample::mis_pdf`] is `+inf` for one) wins against any finite
+//! one; two infinite densities share equally.
 //! Ratios are formed before squaring, so no finite input can overflow.
 
 #[inline(always)]

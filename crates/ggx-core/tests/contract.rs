@@ -776,6 +776,21 @@ proptest! {
         prop_assert!(unit_interval(w), "{nf} {f} {ng} {g} -> {w}");
     }
 
+    /// `+inf` for a delta sample (power and balance heuristics then give it weight 1), a
+    /// finite non-negative density otherwise.
+    #[test]
+    fn bsdf_sample_mis_pdf(pdf in any_f32(), is_delta in any::<bool>(), g in any_f32()) {
+        let s = BsdfSample { wi: Vec3::Z, weight: Vec3::ONE, pdf, is_delta };
+        let m = s.mis_pdf();
+        if is_delta {
+            prop_assert!(m == f32::INFINITY);
+            prop_assert!(g == f32::INFINITY || power_heuristic(1.0, m, 1.0, g) == 1.0, "{g}");
+        } else {
+            prop_assert!(m.is_finite() && m >= 0.0, "{pdf} -> {m}");
+            prop_assert!(pdf.is_nan() || !pdf.is_finite() || pdf < 0.0 || m == pdf, "{pdf} -> {m}");
+        }
+    }
+
     /// Orthonormal and right-handed for any `n`.
     #[test]
     fn frame_from_z(n in dir()) {

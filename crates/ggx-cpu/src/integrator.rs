@@ -107,19 +107,22 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool>(
 
     let mut radiance = Vec3::ZERO;
     let mut beta = Vec3::ONE;
-    // Density of the BSDF sample that produced `dir`, and whether it was a delta lobe.
-    let mut prev_pdf = 0.0f32;
-    let mut prev_delta = true; // the camera ray counts as "specular": emission is always added
+    // MIS density of the BSDF sample that produced `dir` (`BsdfSample::mis_pdf`: +inf for a
+    // delta lobe). The camera ray counts as a delta: emission it sees is always added.
+    let mut prev_pdf = f32::INFINITY;
     let mut depth = 0u32;
     loop {
         counters.rays += 1;
         let Some(hit) = scene.accel.closest(origin, dir, f32::INFINITY) else {
             if has_env && let Some(env) = &scene.environment {
                 let le = env.radiance(dir);
-                let w = if prev_delta || !use_nee {
+                let w = if !use_nee {
                     1.0
                 } else if use_mis {
                     power_heuristic(1.0, prev_pdf, 1.0, p_env * env.pdf(dir))
+                } else if prev_pdf == f32::INFINITY {
+                    // NEE alone cannot find a delta direction: the BSDF sample counts in full.
+                    1.0
                 } else {
                     0.0
                 };
@@ -137,11 +140,13 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool>(
             let cos_l = -ng.dot(dir);
             if cos_l > 0.0 {
                 let le = scene.emission.get(material).copied().unwrap_or(Vec3::ZERO);
-                let w = if prev_delta || !use_nee {
+                let w = if !use_nee {
                     1.0
                 } else if use_mis {
                     let pdf_area = scene.lights.pdf_area(tri.emitter as usize);
                     power_heuristic(1.0, prev_pdf, 1.0, p_area * pdf_area * hit.t * hit.t / cos_l)
+                } else if prev_pdf == f32::INFINITY {
+                    1.0
                 } else {
                     0.0
                 };
@@ -231,8 +236,7 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool>(
             break; // the shading normal sent the ray into the surface
         }
         beta *= bs.weight;
-        prev_pdf = bs.pdf;
-        prev_delta = bs.is_delta;
+        prev_pdf = bs.mis_pdf();
         origin = p_out;
         dir = wi_world;
         depth += 1;

@@ -4,8 +4,8 @@ use bytemuck::{Pod, Zeroable};
 use ggx_core::fresnel::{FresnelParams, fresnel_complex, fresnel_dielectric, fresnel_schlick};
 use ggx_core::sequence::{self as seq, CounterRng, SampleStream, SequenceKind};
 use ggx_core::{
-    Frame, Fresnel, GgxConductor, GgxDielectric, Sampling, TransportMode, TrowbridgeReitz, alpha, clamp_eta, math, mis,
-    reflect, refract, warp,
+    BsdfSample, Frame, Fresnel, GgxConductor, GgxDielectric, Sampling, TransportMode, TrowbridgeReitz, alpha,
+    clamp_eta, math, mis, reflect, refract, warp,
 };
 use glam::{Vec2, Vec3};
 
@@ -1208,5 +1208,14 @@ pub(super) fn specs() -> Vec<Spec> {
         odd.into_iter().map(|k| (Input::default(), k)),
         |_, k| words(bytemuck::cast_slice::<GgxDielectric, u32>(std::slice::from_ref(k))),
     );
+    // BsdfSample::mis_pdf: every scalar as the pdf of a delta and of a non-delta sample.
+    let mis_pdf_cases = scalars().into_iter().flat_map(|x| {
+        [0, 1].map(|delta| (Input { a: [x, 0.0, 0.0, 0.0], n: [delta, 0, 0, 0], ..Default::default() }, none()))
+    });
+    s.row("bsdf_sample_mis_pdf", &[Group::value(Bound::Exact)], mis_pdf_cases, |i, _| {
+        let sample = BsdfSample { wi: Vec3::ZERO, weight: Vec3::ZERO, pdf: i.a[0], is_delta: i.n[0] != 0 };
+        floats(&[sample.mis_pdf()])
+    })
+    .ieee();
     s.0
 }

@@ -592,6 +592,15 @@ fn fresnel_params_eval(params: FresnelParams, cos_theta: f32) -> vec3<f32> {
 // conductor.rs: GgxConductor
 // ---------------------------------------------------------------------------------------------
 
+// BsdfSample::mis_pdf: +inf for a delta lobe (it wins every MIS weight), else the pdf with
+// NaN, negative and infinite values as 0.
+fn bsdf_sample_mis_pdf(s: BsdfSample) -> f32 {
+    if s.is_delta != 0u {
+        return inf_f32();
+    }
+    return max_num(finite_or_zero(s.pdf), 0.0);
+}
+
 // 2 (|wi.z| s(wo) + |wo.z| s(wi)) = 4 zo zi / G2.
 fn g2_denominator(dist: TrowbridgeReitz, wo: vec3<f32>, wi: vec3<f32>, so: f32) -> f32 {
     return 2.0 * (wi.z * so + wo.z * stretched_len(dist, wi));

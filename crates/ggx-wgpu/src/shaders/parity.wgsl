@@ -92,6 +92,7 @@ const F_GGX_DIELECTRIC_EVAL: u32 = 63u;
 const F_GGX_DIELECTRIC_PDF: u32 = 64u;
 const F_GGX_DIELECTRIC_SAMPLE: u32 = 65u;
 const F_GGX_DIELECTRIC_LAYOUT: u32 = 66u;
+const F_BSDF_SAMPLE_MIS_PDF: u32 = 67u;
 
 var<private> out_base: u32;
 
@@ -409,6 +410,9 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             put_f(1u, dielectric.distribution.alpha_y);
             put_f(2u, dielectric.eta);
             put_u(3u, dielectric.pad);
+        }
+        case F_BSDF_SAMPLE_MIS_PDF: {
+            put_f(0u, bsdf_sample_mis_pdf(BsdfSample(vec3(0.0), vec3(0.0), p.a.x, p.n.x, 1u)));
         }
         case F_PROBE: {
             probe(p);

@@ -169,8 +169,8 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
     var dir = dir_in;
     var radiance = vec3(0.0);
     var beta = vec3(1.0);
-    var prev_pdf = 0.0f;
-    var prev_delta = true;
+    // BsdfSample::mis_pdf of the sample that produced dir; the camera ray counts as a delta.
+    var prev_pdf = inf_f32();
     var depth = 0u;
     loop {
         *rays += 1u;
@@ -180,10 +180,12 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
             if has_env {
                 let le = env_radiance(dir);
                 var w = 0.0f;
-                if prev_delta || !use_nee {
+                if !use_nee {
                     w = 1.0;
                 } else if use_mis {
                     w = power_heuristic(1.0, prev_pdf, 1.0, p_env * env_pdf(dir));
+                } else if prev_pdf == inf_f32() {
+                    w = 1.0;
                 }
                 radiance += beta * le * w;
             }
@@ -199,10 +201,12 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
             let cos_l = -dot3(ng, dir);
             if cos_l > 0.0 {
                 var w = 0.0f;
-                if prev_delta || !use_nee {
+                if !use_nee {
                     w = 1.0;
                 } else if use_mis {
                     w = power_heuristic(1.0, prev_pdf, 1.0, p_area * pdf_area(tri.emitter) * t_hit * t_hit / cos_l);
+                } else if prev_pdf == inf_f32() {
+                    w = 1.0;
                 }
                 radiance += beta * m.emission * w;
             }
@@ -290,8 +294,7 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
             break;
         }
         beta *= bs.weight;
-        prev_pdf = bs.pdf;
-        prev_delta = bs.is_delta != 0u;
+        prev_pdf = bsdf_sample_mis_pdf(bs);
         origin = p_out;
         dir = wi_world;
         depth += 1u;
