@@ -4,11 +4,16 @@
 //! conductor) and the four raw `TrowbridgeReitz::sample_wm_*` samplers run over alphas from
 //! 1e-7 to 1 with anisotropy up to 1:100, views from the normal to below the horizon and a
 //! u grid holding 0 and 1 - ulp plus deterministic random points ([`grid`], [`sweep`]).
+//! `GgxDielectric::sample` runs with each technique it accepts (NDF, VNDF, spherical caps,
+//! bounded) in both transport modes over the same alphas, six indices of refraction (1.5,
+//! 1/1.5, 1.33, 2.4 and the clamp bounds 1e-2, 1e2) and views on both sides of the surface,
+//! at the horizon and around the critical angle, with `u_lobe` from 0 to 1 - ulp.
 //! Every returned sample is checked ([`method`]) and counted ([`tally`]); the lost share at
 //! grazing views is measured separately ([`horizon`]).
 //!
 //! The run fails on any NaN or infinity and on any accepted invalid sample (below the
-//! horizon, not unit, weight or pdf `<= 0`, weight over its bound); `weight != eval / pdf`
+//! horizon or, for the dielectric, on the wrong side for its lobe; not unit; pdf `<= 0`;
+//! weight `<= 0`, dielectric `< 0`; weight over its bound); `weight != eval / pdf`
 //! fails only above [`MISMATCH_SHARE`] of a method's samples, since ill-conditioned grazing
 //! pairs can legitimately differ; its worst examples are printed for a human to judge.
 //! Raw normals whose own density is zero are reported but do not fail (see
@@ -101,28 +106,49 @@ pub fn run(options: &Options) -> Result<(), String> {
 
 /// The header: what is swept and how many samples each method gets.
 fn describe(plan: &sweep::Plan, options: &Options) -> String {
-    let cos: Vec<String> = grid::cos_thetas().iter().map(|c| format!("{c:?}")).collect();
-    let u: Vec<String> = grid::U_VALUES.iter().map(|u| format!("{u:?}")).collect();
+    let list = |v: &[f32]| v.iter().map(|c| format!("{c:?}")).collect::<Vec<_>>().join(" ");
+    let cos = list(&grid::cos_thetas());
+    let u = list(&grid::U_VALUES);
     let views = grid::cos_thetas().len() * grid::AZIMUTHS.len();
+    let etas = list(&grid::ETAS);
+    let d_cos = list(&grid::dielectric_cos_thetas(grid::ETAS[0]));
+    let d_views: usize = grid::ETAS.iter().map(|&e| grid::dielectric_cos_thetas(e).len()).sum::<usize>()
+        * grid::DIELECTRIC_AZIMUTHS.len();
+    let conductor = plan.ranges[0].len();
+    let dielectric = plan.ranges[1].len();
+    let d_points = plan.grids[1].len();
+    let d_fixed = plan.fixed[1].len();
     format!(
         "stress{}: ggx-core numerical sweep, at least {} samples per method\n\
          alphas: {} log-spaced from {:e} to 1, each as (a,a) (a,a/10) (a,a/100) (a/100,a) = {} pairs \
          (clamped by the core)\n\
-         cos theta: {}\n\
+         cos theta: {cos}\n\
          azimuths (rad): {:?} -> {views} views, {} cases\n\
          u: {}x{} grid of {} on every case, plus CounterRng points on each case where u matters \
-         (view above the horizon, lobe not a delta) to reach the budget",
+         (view above the horizon, lobe not a delta) to reach the budget\n\
+         dielectric: the same alpha pairs x eta {etas} (clamped to [{:e}, {:e}]) x views on both sides, \
+         cos theta for eta {:?}: {d_cos} (the last 5: the critical angle region, f32 neighbours of \
+         sqrt(1 - eta'^2) and sin theta {:?} relatively off, on the side of total internal reflection; \
+         likewise for each eta) x azimuths {:?} -> {d_views} (eta, view) pairs, {dielectric} cases\n\
+         dielectric u: the {d_points} points of the u grid with u_lobe cycling through {}, plus CounterRng \
+         (u, u_lobe) to reach the budget, on each case where u matters (view off the surface, lobe not a delta); \
+         elsewhere the {d_fixed} points of every u_lobe at u = (0, 0) and (1 - ulp, 1 - ulp)",
         if options.quick { " --quick" } else { "" },
         options.samples,
         grid::ALPHA_COUNT,
         grid::ALPHA_LO,
         grid::alpha_pairs().len(),
-        cos.join(" "),
         grid::AZIMUTHS,
-        plan.cases.len(),
+        conductor,
         grid::U_VALUES.len(),
         grid::U_VALUES.len(),
-        u.join(" ")
+        u,
+        ggx_core::ETA_MIN,
+        ggx_core::ETA_MAX,
+        grid::ETAS[0],
+        grid::CRITICAL_OFFSETS,
+        grid::DIELECTRIC_AZIMUTHS,
+        list(&grid::U_LOBE_VALUES),
     )
 }
 
@@ -159,25 +185,32 @@ fn report(plan: &sweep::Plan, tallies: &[Tally]) -> String {
 }
 
 /// What the columns of the per-method table count.
-fn notes() -> [String; 7] {
-    [
+fn notes() -> Vec<String> {
+    vec![
         "rejected: share of None (normal samplers: of zero normals); views at or below the horizon are always \
          rejected."
             .into(),
         format!(
             "w!=f/p: relative difference > {WEIGHT_TOLERANCE:e} from eval(wo, wi) / pdf(wo, wi) where pdf > \
-             {PDF_FLOOR:e}; delta lobes: weight != F(wo.z), pdf != 1 or wi not the mirror. p!=pdf(): the sample's \
-             pdf against pdf()."
+             {PDF_FLOOR:e}; delta lobes: weight != F(wo.z), pdf != 1 or wi not the mirror (dielectric: the mirror \
+             with pdf F(wo.z) and weight 1 where u_lobe < F, else the refracted direction with pdf 1 - F and \
+             weight s). p!=pdf(): the sample's pdf against pdf()."
         ),
         "compared: accepted samples where that comparison applied; max w err: the largest relative difference seen."
             .into(),
         "p(wm)=0: normal samplers only, a returned normal whose own density (D wm.z, D_wo, bounded) is 0, i.e. \
          back-facing or horizontal; reported, does not fail (GgxConductor::sample rejects such normals)."
             .into(),
-        "bound w<=F: weight <= F(wo.wm) <= 1 (+1e-5). none: NDF, cosine and uniform weights have no bound of 1; \
-         delta lobes of every technique are still held to weight == F <= 1."
+        "bound w<=F: weight <= F(wo.wm) <= 1 (+1e-5). w<=s (dielectric): weight <= s (relative 1e-5), s = \
+         1 / eta'^2 for transmitted radiance, else 1. none: NDF, cosine and uniform weights have no bound of 1; \
+         delta lobes of every technique are still held to weight == F <= 1 (dielectric: weight == s)."
             .into(),
-        "below-hz: wi.z <= 0 (normal samplers: wm.z < 0) or a view at or below the horizon, in an accepted sample."
+        "below-hz: wi.z <= 0 (normal samplers: wm.z < 0) or a view at or below the horizon, in an accepted sample. \
+         Dielectric: wi on the wrong side for the lobe that u_lobe selects (reflection where u_lobe < F(wo.wm), \
+         wm recomputed from u; it must keep wo's side, transmission must cross), or wi.z == 0."
+            .into(),
+        "w|p<=0: pdf <= 0 or a weight channel <= 0; dielectric: weight < 0 (a zero weight, G2 underflowing, is \
+         valid)."
             .into(),
         "ns/sample: thread time per sample, checks included.".into(),
     ]
@@ -241,8 +274,21 @@ fn show(plan: &sweep::Plan, method: Method, e: Example) -> String {
     );
     match method {
         Method::Normal(_) => format!("{inputs} -> wm={} (wo.wm {:?}) density={:?}", v3(e.wi), c.wo.dot(e.wi), e.pdf),
-        Method::Brdf(..) => {
-            let mut out = format!("{inputs} -> wi={} weight={} pdf={:?}", v3(e.wi), v3(e.weight), e.pdf);
+        Method::Brdf(..) | Method::Dielectric(..) => {
+            let mut out = match (method, c.eta) {
+                (Method::Dielectric(_, mode), Some(eta)) => {
+                    let lobe = if c.wo.z * e.wi.z < 0.0 { "T" } else { "R" };
+                    format!(
+                        "{inputs} u_lobe={:?} eta={eta:?} {} -> {lobe} wi={} weight={} pdf={:?}",
+                        e.u_lobe,
+                        method::mode_name(mode),
+                        v3(e.wi),
+                        v3(e.weight),
+                        e.pdf
+                    )
+                }
+                _ => format!("{inputs} -> wi={} weight={} pdf={:?}", v3(e.wi), v3(e.weight), e.pdf),
+            };
             if !e.error.is_nan() {
                 out += &format!(" want={} err={:.3e}", v3(e.want), e.error);
             }

@@ -14,15 +14,17 @@ pub enum Check {
     /// Direction whose length is off 1 by more than [`super::method::UNIT_TOLERANCE`].
     NonUnit,
     /// Accepted although `wi.z <= 0` (normal samplers: `wm.z < 0`), or although the view
-    /// itself is at or below the horizon.
+    /// itself is at or below the horizon. Dielectric: `wi` on the wrong side for the lobe
+    /// `u_lobe` selects (reflection keeps `wo`'s side, transmission crosses), or `wi.z = 0`.
     BelowHorizon,
-    /// A finite weight channel or pdf `<= 0`.
+    /// A finite pdf `<= 0`, or a weight channel `<= 0` (dielectric: `< 0`).
     NonPositive,
     /// Weight above its analytic bound (see [`super::method::Method::bound`]).
     OverBound,
-    /// `weight != eval / pdf` (delta lobes: `weight != F`, `pdf != 1` or not the mirror).
+    /// `weight != eval / pdf` (delta lobes: weight, pdf or direction off the delta convention).
     WeightMismatch,
-    /// The sample's pdf differs from `GgxConductor::pdf` for the same pair.
+    /// The sample's pdf differs from `pdf()` (`GgxConductor::pdf`, `GgxDielectric::pdf`) for
+    /// the same pair.
     PdfMismatch,
     /// Normal samplers only: a returned normal whose own density is 0 (back-facing to the
     /// view, or horizontal). Reported, never fails: `GgxConductor::sample` rejects them.
@@ -77,13 +79,15 @@ pub struct Example {
     pub id: u64,
     /// Random numbers passed to the sampler.
     pub u: Vec2,
+    /// The lobe choice passed to the dielectric (0, unused, for the other methods).
+    pub u_lobe: f32,
     /// Returned direction (`wm` for the normal samplers).
     pub wi: Vec3,
     /// Returned weight (zero for the normal samplers).
     pub weight: Vec3,
     /// Returned pdf (normal samplers: the density of the returned normal).
     pub pdf: f32,
-    /// What the weight should be: `eval / pdf`, or `F` for a delta lobe.
+    /// What the weight should be: `eval / pdf`, or the delta convention's weight.
     pub want: Vec3,
     /// Relative error of `weight` against `want` (NaN where not compared).
     pub error: f32,
@@ -175,7 +179,7 @@ mod tests {
     use super::*;
 
     fn example(id: u64, error: f32) -> Example {
-        Example { id, u: Vec2::ZERO, wi: Vec3::Z, weight: Vec3::ONE, pdf: 1.0, want: Vec3::ONE, error }
+        Example { id, u: Vec2::ZERO, u_lobe: 0.0, wi: Vec3::Z, weight: Vec3::ONE, pdf: 1.0, want: Vec3::ONE, error }
     }
 
     #[test]
