@@ -11,12 +11,14 @@
 //!   (see [`stress`]).
 //! * `fuzz [--cases N]`: the mutation tests of every file reader and ggx-core's contract with
 //!   a long budget (see [`fuzz`]).
+//! * `tables [--check]`: regenerates ggx-core's energy-compensation tables (see [`tables`]).
 
 mod bench;
 mod diff;
 mod fuzz;
 mod render;
 mod stress;
+mod tables;
 
 use std::process::{Command, ExitCode};
 use std::time::Instant;
@@ -36,7 +38,10 @@ const USAGE: &str = "usage: cargo xtask <command>
   stress [--quick] [--samples N] numerical stress sweep of ggx-core's samplers: N samples per method
                                  (default 1e8; --quick: 1e6); fails on any NaN/inf or invalid accepted sample
   fuzz [--cases N]               mutation tests of the scene, OBJ, HDR and EXR readers and ggx-core's
-                                 any-f32 contract with N cases each (default 20000; CI runs a short budget)";
+                                 any-f32 contract with N cases each (default 20000; CI runs a short budget)
+  tables [--check]               regenerate ggx-core's energy-compensation tables E(mu, alpha) and E_avg(alpha)
+                                 (crates/ggx-core/src/energy_tables.rs) from ggx-core's eval in f64;
+                                 --check: fail when the committed file differs";
 
 /// The crate that proves ggx-core builds without std. It must be built on its own: built
 /// together with crates that enable ggx-core's `std` feature, feature unification would
@@ -50,6 +55,7 @@ fn main() -> ExitCode {
         Some("diff") => diff::run(&args[1..]),
         Some("bench") => bench::run(&args[1..]),
         Some("fuzz") => fuzz::run(&args[1..]),
+        Some("tables") => tables::run(&args[1..]),
         Some("stress") => match stress::Options::parse(&args[1..]) {
             Ok(options) => stress::run(&options),
             Err(e) => {

@@ -2,6 +2,7 @@
 //! [`BxdfFlags`]. Static dispatch only (generics), no trait objects, so it compiles for GPUs.
 
 use crate::conductor::{BsdfSample, GgxConductor};
+use crate::conductor_ms::GgxConductorMs;
 use crate::sampling::Sampling;
 use glam::{Vec2, Vec3};
 
@@ -105,5 +106,29 @@ impl Bxdf for GgxConductor {
     fn flags(&self) -> BxdfFlags {
         let lobe = if self.is_delta() { BxdfFlags::SPECULAR } else { BxdfFlags::GLOSSY };
         BxdfFlags::REFLECTION.union(lobe)
+    }
+}
+
+/// The compensated conductor through the interface: `u_lobe` picks the single- or
+/// multiple-scattering lobe, `mode` is ignored (reflection only).
+impl Bxdf for GgxConductorMs {
+    #[inline]
+    fn eval(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> Vec3 {
+        GgxConductorMs::eval(self, wo, wi)
+    }
+
+    #[inline]
+    fn pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling, _mode: TransportMode) -> f32 {
+        GgxConductorMs::pdf(self, wo, wi, sampling)
+    }
+
+    #[inline]
+    fn sample(&self, wo: Vec3, u: Vec2, u_lobe: f32, sampling: Sampling, _mode: TransportMode) -> Option<BsdfSample> {
+        GgxConductorMs::sample(self, wo, u, u_lobe, sampling)
+    }
+
+    #[inline]
+    fn flags(&self) -> BxdfFlags {
+        Bxdf::flags(&self.conductor)
     }
 }

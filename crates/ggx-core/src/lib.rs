@@ -16,6 +16,8 @@
 //!   hemisphere baselines in [`warp`].
 //! * [`Fresnel`]: Schlick, exact dielectric, complex-IOR conductor and `One`.
 //! * [`GgxConductor`]: the reflection BRDF that ties them together (`eval`, `pdf`, `sample`).
+//! * [`GgxConductorMs`]: the conductor with Kulla & Conty 2017's multiple-scattering lobe
+//!   (energy compensation), tables in [`energy`] and [`energy_tables`].
 //! * [`GgxDielectric`]: reflection and transmission through one rough interface (Walter et
 //!   al. 2007), with [`TransportMode`] and [`refract`].
 //! * [`Bxdf`]: the one BSDF interface both implement (static dispatch), with [`BxdfFlags`].
@@ -43,8 +45,12 @@ pub mod alpha;
 pub mod batch;
 mod bxdf;
 mod conductor;
+mod conductor_ms;
 mod dielectric;
 mod distribution;
+pub mod energy;
+#[rustfmt::skip]
+pub mod energy_tables;
 mod frame;
 pub mod fresnel;
 pub mod math;
@@ -60,6 +66,7 @@ pub mod warp;
 pub use alpha::{ALPHA_MAX, ALPHA_MIN, DELTA_ALPHA, alpha_to_roughness, roughness_to_alpha};
 pub use bxdf::{Bxdf, BxdfFlags, TransportMode};
 pub use conductor::{BsdfSample, GgxConductor};
+pub use conductor_ms::GgxConductorMs;
 pub use dielectric::{ETA_MAX, ETA_MIN, GgxDielectric, clamp_eta, refract};
 pub use distribution::TrowbridgeReitz;
 pub use frame::{Frame, reflect};
