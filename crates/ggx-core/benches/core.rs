@@ -5,7 +5,7 @@
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use ggx_core::batch::{self, Vec3Slices, Vec3SlicesMut};
-use ggx_core::{Fresnel, GgxConductor, Sampling, Vec2, Vec3, warp};
+use ggx_core::{Fresnel, GgxConductor, GgxConductorMs, Sampling, Vec2, Vec3, energy, warp};
 use rand_core::{Rng, SeedableRng};
 use std::hint::black_box;
 
@@ -106,5 +106,26 @@ fn batched(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, scalar, batched);
+/// Energy compensation: `GgxConductorMs::eval` against `GgxConductor::eval` (same lobe, a
+/// complex-IOR Fresnel) and the table lookup `energy::albedo` alone (mu, alpha from the inputs).
+fn energy_compensation(c: &mut Criterion) {
+    let v = inputs();
+    let fresnel = Fresnel::Conductor { eta: Vec3::new(0.2, 0.92, 1.1), k: Vec3::new(3.9, 2.45, 2.2) };
+    let brdf = GgxConductor::isotropic(0.3, fresnel);
+    let ms = GgxConductorMs::new(brdf);
+    let mut g = c.benchmark_group("energy");
+    g.throughput(Throughput::Elements(N as u64));
+    g.bench_function("conductor_eval", |b| {
+        b.iter(|| v.wo.iter().zip(&v.wi).map(|(&o, &i)| brdf.eval(black_box(o), i).x).sum::<f32>())
+    });
+    g.bench_function("conductor_ms_eval", |b| {
+        b.iter(|| v.wo.iter().zip(&v.wi).map(|(&o, &i)| ms.eval(black_box(o), i).x).sum::<f32>())
+    });
+    g.bench_function("albedo", |b| {
+        b.iter(|| v.wo.iter().zip(&v.u).map(|(&o, &u)| energy::albedo(black_box(o.z), u.x)).sum::<f32>())
+    });
+    g.finish();
+}
+
+criterion_group!(benches, scalar, batched, energy_compensation);
 criterion_main!(benches);

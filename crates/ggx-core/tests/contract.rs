@@ -12,6 +12,10 @@
 //! asserted exactly.
 
 use ggx_core::batch::{self, Vec3Slices, Vec3SlicesMut};
+use ggx_core::energy::{
+    albedo, alpha_coordinate, average_albedo, column_mu, effective_alpha, mu_coordinate, multiple_scattering_fresnel,
+    row_alpha,
+};
 use ggx_core::fresnel::{FresnelParams, fresnel_complex, fresnel_dielectric, fresnel_schlick, kind};
 use ggx_core::math::{self, ONE_MINUS_EPSILON};
 use ggx_core::mis::{balance_heuristic, power_heuristic};
@@ -20,8 +24,8 @@ use ggx_core::sequence::{
 };
 use ggx_core::{
     ALPHA_MAX, ALPHA_MIN, BsdfSample, Bxdf, BxdfFlags, DELTA_ALPHA, ETA_MAX, ETA_MIN, Frame, Fresnel, GgxConductor,
-    GgxDielectric, Sampling, TransportMode, TrowbridgeReitz, Vec2, Vec3, alpha, alpha_to_roughness, clamp_eta, reflect,
-    refract, roughness_to_alpha, warp,
+    GgxConductorMs, GgxDielectric, Sampling, TransportMode, TrowbridgeReitz, Vec2, Vec3, alpha, alpha_to_roughness,
+    clamp_eta, reflect, refract, roughness_to_alpha, warp,
 };
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
@@ -133,6 +137,22 @@ fn raw_dielectric() -> impl Strategy<Value = GgxDielectric> {
     ]
 }
 
+/// A compensated conductor whose every field bypasses the constructor (raw `f_avg`, any
+/// `compensation`); sometimes built by `new`, sometimes all 80 bytes arbitrary.
+fn raw_ms() -> impl Strategy<Value = GgxConductorMs> {
+    let comp = prop_oneof![2 => Just(1u32), 1 => Just(0u32), 1 => any::<u32>()];
+    prop_oneof![
+        4 => (raw_brdf(), (field(), field(), field()), comp)
+            .prop_map(|(conductor, (r, g, b), compensation)| GgxConductorMs { conductor, f_avg: [r, g, b], compensation }),
+        2 => raw_brdf().prop_map(GgxConductorMs::new),
+        1 => any::<[u32; 20]>().prop_map(bytemuck::cast::<[u32; 20], GgxConductorMs>),
+    ]
+}
+
+fn constructed_ms(m: GgxConductorMs) -> GgxConductorMs {
+    GgxConductorMs { conductor: constructed_brdf(m.conductor), ..m }
+}
+
 fn constructed_dielectric(b: GgxDielectric) -> GgxDielectric {
     GgxDielectric::new(b.distribution.alpha_x, b.distribution.alpha_y, b.eta)
 }
@@ -191,6 +211,11 @@ fn unit_interval(x: f32) -> bool {
 /// In `[0, 1)`.
 fn unit_open(x: f32) -> bool {
     (0.0..1.0).contains(&x)
+}
+
+/// `x` clamped to `[0, 1]`, NaN -> 0 (the clamp the energy functions document).
+fn clamp01(x: f32) -> f32 {
+    x.max(0.0).min(1.0)
 }
 
 /// Zero, or unit length within 1e-5 with `z >= 0` (a microfacet normal).
@@ -1104,5 +1129,210 @@ proptest! {
         let c = run(&constructed_brdf(b));
         let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         prop_assert!(bits(&r) == bits(&c.0) && bits(&g) == bits(&c.1) && bits(&bl) == bits(&c.2), "{b:?}");
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// energy, Fresnel averages, GgxConductorMs
+// ---------------------------------------------------------------------------------------------
+
+proptest! {
+    #![proptest_config(config())]
+
+    /// In `[0, 1]`; `mu` and `alpha` are clamped to `[0, 1]` with NaN -> 0 (same bits).
+    #[test]
+    fn energy_albedo(mu in any_f32(), a in field()) {
+        let e = albedo(mu, a);
+        prop_assert!(unit_interval(e), "{mu} {a} -> {e}");
+        prop_assert!(same(e, albedo(clamp01(mu), clamp01(a))), "{mu} {a} -> {e}");
+    }
+
+    /// In `[0, 1]`; `alpha` clamped to `[0, 1]` with NaN -> 0 (same bits).
+    #[test]
+    fn energy_average_albedo(a in field()) {
+        let e = average_albedo(a);
+        prop_assert!(unit_interval(e), "{a} -> {e}");
+        prop_assert!(same(e, average_albedo(clamp01(a))), "{a} -> {e}");
+    }
+
+    /// At most 1 and finite (below 0 under `DELTA_ALPHA`); NaN -> 0 as the clamp; the inverse of
+    /// `row_alpha` on `[DELTA_ALPHA, 1]`.
+    #[test]
+    fn energy_alpha_coordinate(a in field()) {
+        let t = alpha_coordinate(a);
+        prop_assert!(t.is_finite() && t <= 1.0 && t >= alpha_coordinate(0.0), "{a} -> {t}");
+        prop_assert!(same(t, alpha_coordinate(clamp01(a))));
+        prop_assert_eq!(t >= 0.0, clamp01(a) >= DELTA_ALPHA * (1.0 - 1e-6), "{} -> {}", a, t);
+        if (DELTA_ALPHA..=1.0).contains(&a) {
+            let back = row_alpha(t);
+            prop_assert!((back - a).abs() <= 2e-5 * a, "{a} -> {t} -> {back}");
+        }
+    }
+
+    /// In `[DELTA_ALPHA, 1]` (never a mirror), 1 at `t = 1`; `t` clamped, NaN -> 0.
+    #[test]
+    fn energy_row_alpha(t in any_f32()) {
+        let a = row_alpha(t);
+        prop_assert!((DELTA_ALPHA..=1.0).contains(&a), "{t} -> {a}");
+        prop_assert!(same(a, row_alpha(clamp01(t))));
+        prop_assert!(!GgxConductor::isotropic(a, Fresnel::One).is_delta());
+        prop_assert_eq!(row_alpha(1.0), 1.0);
+    }
+
+    /// In `[0, 1]`, `mu^(1/4)`; `mu` clamped, NaN -> 0; the inverse of `column_mu`.
+    #[test]
+    fn energy_mu_coordinate(mu in any_f32()) {
+        let t = mu_coordinate(mu);
+        prop_assert!(unit_interval(t), "{mu} -> {t}");
+        prop_assert!(same(t, mu_coordinate(clamp01(mu))));
+        let back = column_mu(t);
+        prop_assert!((back - clamp01(mu)).abs() <= 1e-6 * clamp01(mu).max(1e-30), "{mu} -> {t} -> {back}");
+    }
+
+    /// In `[0, 1]`, `t^4`; `t` clamped, NaN -> 0.
+    #[test]
+    fn energy_column_mu(t in any_f32()) {
+        let mu = column_mu(t);
+        prop_assert!(unit_interval(mu), "{t} -> {mu}");
+        prop_assert!(same(mu, column_mu(clamp01(t))));
+    }
+
+    /// In `[ALPHA_MIN, 1]`, between the clamped alphas, the alpha itself when isotropic, and
+    /// the same bits as for the constructed distribution.
+    #[test]
+    fn energy_effective_alpha(t in raw_dist()) {
+        let e = effective_alpha(&t);
+        let (ax, ay) = t.alphas();
+        prop_assert!((ALPHA_MIN..=ALPHA_MAX).contains(&e), "{t:?} -> {e}");
+        prop_assert!(e >= ax.min(ay) * (1.0 - 1e-6) && e <= ax.max(ay) * (1.0 + 1e-6), "{t:?} -> {e}");
+        if ax == ay {
+            prop_assert!((e - ax).abs() <= 1e-6 * ax, "{t:?} -> {e}");
+        }
+        prop_assert!(same(e, effective_alpha(&constructed(t))), "{t:?} -> {e}");
+    }
+
+    /// In `[0, 1]` per channel, at most the (clamped) `F_avg` (`F_ms <= F_avg` for `F_avg <= 1`),
+    /// never NaN, including `F_avg = 1, E_avg = 0` (0 / 0); inputs clamped with NaN -> 0.
+    #[test]
+    fn energy_multiple_scattering_fresnel(r in any_f32(), g in any_f32(), b in any_f32(), e in field()) {
+        let f = Vec3::new(r, g, b);
+        let m = multiple_scattering_fresnel(f, e);
+        prop_assert!(ok3(m) && m.max_element() <= 1.0, "{f:?} {e} -> {m:?}");
+        let fc = Vec3::new(clamp01(r), clamp01(g), clamp01(b));
+        prop_assert!(m.cmple(fc + 1e-6).all(), "{f:?} {e} -> {m:?}");
+        prop_assert!(same3(m, multiple_scattering_fresnel(fc, clamp01(e))), "{f:?} {e} -> {m:?}");
+    }
+
+    /// In `[0, 1]` per channel for any kind and raw parameters; the enum agrees bit for bit.
+    #[test]
+    fn fresnel_params_average(p in raw_fresnel()) {
+        let a = p.average();
+        prop_assert!(ok3(a) && a.max_element() <= 1.0, "{p:?} -> {a:?}");
+        prop_assert!(same3(a, p.to_fresnel().average()), "{p:?} -> {a:?}");
+    }
+
+    #[test]
+    fn fresnel_average(e in fresnel_enum()) {
+        let a = e.average();
+        prop_assert!(ok3(a) && a.max_element() <= 1.0, "{e:?} -> {a:?}");
+        prop_assert!(same3(a, FresnelParams::from(e).average()), "{e:?} -> {a:?}");
+        if e == Fresnel::One {
+            prop_assert!((a - Vec3::ONE).abs().max_element() < 1e-6, "{a:?}");
+        }
+    }
+
+    #[test]
+    fn ggx_conductor_ms_new(b in raw_brdf()) {
+        let m = GgxConductorMs::new(b);
+        prop_assert_eq!(bytemuck::bytes_of(&m.conductor), bytemuck::bytes_of(&b));
+        prop_assert!(same3(Vec3::from_array(m.f_avg), b.fresnel.average()));
+        prop_assert_eq!(m.compensation, 1);
+    }
+
+    #[test]
+    fn ggx_conductor_ms_is_compensated(m in raw_ms()) {
+        prop_assert_eq!(m.is_compensated(), m.compensation != 0 && !m.conductor.is_delta(), "{:?}", m);
+        prop_assert_eq!(m.is_compensated(), constructed_ms(m).is_compensated());
+    }
+
+    /// In `[0, 1]` per channel whatever the raw `f_avg`.
+    #[test]
+    fn ggx_conductor_ms_ms_fresnel(m in raw_ms()) {
+        let f = m.ms_fresnel();
+        prop_assert!(ok3(f) && f.max_element() <= 1.0, "{m:?} -> {f:?}");
+        prop_assert!(same3(f, constructed_ms(m).ms_fresnel()));
+    }
+
+    /// Finite, `>= 0`, zero when off, below the horizon or for a mirror; as `constructed`.
+    #[test]
+    fn ggx_conductor_ms_eval_ms(m in raw_ms(), wo in dir(), wi in dir()) {
+        let f = m.eval_ms(wo, wi);
+        prop_assert!(ok3(f), "{m:?} {wo:?} {wi:?} -> {f:?}");
+        if !(m.is_compensated() && wo.z > 0.0 && wi.z > 0.0) {
+            prop_assert_eq!(f, Vec3::ZERO);
+        }
+        prop_assert!(same3(f, constructed_ms(m).eval_ms(wo, wi)), "{m:?} {wo:?} {wi:?} -> {f:?}");
+    }
+
+    /// Finite, `>= 0`, `eval_ss + eval_ms` exactly; as `constructed`.
+    #[test]
+    fn ggx_conductor_ms_eval(m in raw_ms(), wo in dir(), wi in dir()) {
+        let f = m.eval(wo, wi);
+        prop_assert!(ok3(f), "{m:?} {wo:?} {wi:?} -> {f:?}");
+        prop_assert!(same3(f, m.conductor.eval(wo, wi) + m.eval_ms(wo, wi)));
+        prop_assert!(same3(f, constructed_ms(m).eval(wo, wi)), "{m:?} {wo:?} {wi:?} -> {f:?}");
+    }
+
+    /// In `[0, 0.999]`, 0 when off or `wo.z <= 0`; as `constructed`.
+    #[test]
+    fn ggx_conductor_ms_ms_probability(m in raw_ms(), wo in dir()) {
+        let p = m.ms_probability(wo);
+        prop_assert!((0.0..=0.999).contains(&p), "{m:?} {wo:?} -> {p}");
+        if !(m.is_compensated() && wo.z > 0.0) {
+            prop_assert_eq!(p, 0.0);
+        }
+        prop_assert!(same(p, constructed_ms(m).ms_probability(wo)));
+    }
+
+    /// Finite, `>= 0`; the conductor's pdf when off; as `constructed`.
+    #[test]
+    fn ggx_conductor_ms_pdf(m in raw_ms(), wo in dir(), wi in dir(), s in sampling()) {
+        let p = m.pdf(wo, wi, s);
+        prop_assert!(ok(p), "{m:?} {wo:?} {wi:?} {s:?} -> {p}");
+        if !m.is_compensated() {
+            prop_assert!(same(p, m.conductor.pdf(wo, wi, s)));
+        }
+        prop_assert!(same(p, constructed_ms(m).pdf(wo, wi, s)), "{m:?} {wo:?} {wi:?} {s:?} -> {p}");
+    }
+
+    /// `Some`: unit `wi` above the horizon, finite weight `>= 0`, pdf finite `> 0` and equal to
+    /// `pdf()`, `weight == eval / pdf`; exactly the conductor's sample when off; as `constructed`.
+    #[test]
+    fn ggx_conductor_ms_sample(m in raw_ms(), wo in dir(), u in vec2(), ul in any_f32(), s in sampling()) {
+        let r = m.sample(wo, u, ul, s);
+        if let Some(bs) = r {
+            prop_assert!((bs.wi.length() - 1.0).abs() < 1e-5 && bs.wi.z > 0.0, "{m:?} {s:?} wi {:?}", bs.wi);
+            prop_assert!(ok3(bs.weight), "{m:?} {s:?} weight {:?}", bs.weight);
+            prop_assert!(bs.pdf > 0.0 && bs.pdf.is_finite(), "{m:?} {s:?} pdf {}", bs.pdf);
+            if m.is_compensated() {
+                prop_assert!(!bs.is_delta);
+                prop_assert!(same(bs.pdf, m.pdf(wo, bs.wi, s)), "{m:?} {s:?}: {} vs {}", bs.pdf, m.pdf(wo, bs.wi, s));
+                prop_assert!(same3(bs.weight, m.eval(wo, bs.wi) / bs.pdf), "{m:?} {s:?}: {:?}", bs.weight);
+            }
+        }
+        if !m.is_compensated() {
+            prop_assert_eq!(sample_key(r), sample_key(m.conductor.sample(wo, u, s)));
+        }
+        prop_assert_eq!(sample_key(r), sample_key(constructed_ms(m).sample(wo, u, ul, s)));
+    }
+
+    /// The `Bxdf` impl forwards to the inherent methods (bit for bit, `mode` ignored) and has
+    /// the conductor's flags.
+    #[test]
+    fn bxdf_conductor_ms(m in raw_ms(), wo in dir(), wi in dir(), u in vec2(), ul in any_f32(), s in sampling(), md in mode()) {
+        prop_assert!(same3(Bxdf::eval(&m, wo, wi, md), m.eval(wo, wi)));
+        prop_assert!(same(Bxdf::pdf(&m, wo, wi, s, md), m.pdf(wo, wi, s)));
+        prop_assert_eq!(sample_key(Bxdf::sample(&m, wo, u, ul, s, md)), sample_key(m.sample(wo, u, ul, s)));
+        prop_assert_eq!(Bxdf::flags(&m), Bxdf::flags(&m.conductor));
     }
 }

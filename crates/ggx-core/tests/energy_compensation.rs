@@ -73,10 +73,10 @@ const ALPHAS: [f32; 16] = [0.0, 0.001, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1, 0.15
 const MUS: [f32; 15] = [1e-4, 1e-3, 3e-3, 0.01, 0.02, 0.05, 0.1, 0.15, 0.2, 0.3, 0.45, 0.6, 0.75, 0.9, 1.0];
 
 /// White furnace: with `F = 1` the compensated albedo is 1 within 1 % for every alpha in
-/// [0.01, 1] and every view angle down to `mu = 1e-4`, and for alpha in (DELTA_ALPHA, 0.01)
-/// down to `mu = 0.02`; near-mirror lobes at grazing angles (their `E` dips at `mu ~ alpha`,
-/// narrower than the table's first cell) stay within 4 %. Without compensation the loss is
-/// what `examples/albedo.rs` prints.
+/// [0, 1] and every view angle down to `mu = 1e-4` (below `DELTA_ALPHA` the lobe is a mirror
+/// with albedo exactly 1), near-mirror grazing lobes included (their `E` dips at `mu ~ alpha`;
+/// the tables' quarter-root axes resolve it). Without compensation the loss is what
+/// `examples/albedo.rs` prints.
 #[test]
 fn white_furnace_is_one_within_one_percent() {
     let (mut worst, mut worst_near_mirror) = ((0.0f64, 0.0f32, 0.0f32), (0.0f64, 0.0f32, 0.0f32));
@@ -96,8 +96,7 @@ fn white_furnace_is_one_within_one_percent() {
             if [0.01f32, 0.1, 0.25, 0.5, 1.0].contains(&alpha) && [1e-3f32, 0.1, 0.45, 1.0].contains(&mu) {
                 println!("{alpha:<6} {mu:<7} {ss:.5}  {total:.5}");
             }
-            let bound = if near_mirror { 0.04 } else { 0.01 };
-            assert!(err < bound, "alpha {alpha} mu {mu}: compensated albedo {total} (single {ss})");
+            assert!(err < 0.01, "alpha {alpha} mu {mu}: compensated albedo {total} (single {ss})");
         }
     }
     println!("worst |albedo - 1| = {:.2e} at alpha {}, mu {}", worst.0, worst.1, worst.2);
@@ -113,15 +112,16 @@ fn white_furnace_is_one_within_one_percent() {
 }
 
 /// Tables against an independent quadrature at points between the nodes: `|E_table - E| <
-/// 1e-2` outside the near-mirror grazing corner, and `E_avg` within 1e-3 (the interpolation
-/// error the furnace sees).
+/// 4e-3` for every alpha from `DELTA_ALPHA` (below it the lobe is a mirror and the tables are
+/// not read) and every view cosine, and `E_avg` within 1e-3 (the interpolation error the
+/// furnace sees).
 #[test]
 fn table_interpolation_error_is_small() {
     let (mut worst, mut worst_avg) = ((0.0f64, 0.0, 0.0), 0.0f64);
     for alpha in ALPHAS {
         let brdf = GgxConductor::isotropic(alpha, Fresnel::One);
         for mu in MUS {
-            if alpha < 0.01 && mu < 0.02 {
+            if alpha < ggx_core::DELTA_ALPHA {
                 continue;
             }
             let d = (albedo(mu, alpha) as f64 - single_albedo(&brdf, wo_mu(mu))).abs();
@@ -138,16 +138,29 @@ fn table_interpolation_error_is_small() {
         "worst |E_table - E| = {:.2e} at alpha {}, mu {}; worst |E_avg error| = {worst_avg:.2e}",
         worst.0, worst.1, worst.2
     );
-    assert!(worst.0 < 1e-2 && worst_avg < 1e-3);
+    assert!(worst.0 < 4e-3 && worst_avg < 1e-3);
 }
 
-/// Anisotropic lobes read the tables at the RMS alpha: the furnace error this leaves is
-/// measured, at most 1.2 % for an anisotropy ratio up to 4 and 4 % up to 100 (with
-/// `sqrt(alpha_x alpha_y)` it was 6.9 % and 45 %: the test fails with it).
+/// Anisotropic lobes read the tables at the RMS alpha ([`ggx_core::energy::effective_alpha`]):
+/// every pair stays within its measured furnace error plus about 10 % (worst 3.1 % for an
+/// anisotropy ratio up to 4, at (0.25, 1); 1.1 % at (0.1, 0.4)). Kulla & Conty's
+/// `sqrt(alpha_x alpha_y)` fails every pair (6.9 % at (0.1, 0.4), 18 % at (0.25, 1), 45 % at
+/// (0.01, 1)): the bounds are tight enough to tell the two apart.
 #[test]
 fn anisotropic_furnace_error_is_bounded() {
-    let mut worst = 0.0f64;
-    for (ax, ay) in [(0.05f32, 0.5f32), (0.5, 0.05), (0.1, 0.4), (0.3, 0.6), (0.2, 1.0), (0.01, 1.0)] {
+    // (alpha_x, alpha_y, bound on |albedo - 1| over the view cosines).
+    const PAIRS: [(f32, f32, f64); 8] = [
+        (0.1, 0.4, 0.012),
+        (0.4, 0.1, 0.018),
+        (0.3, 0.6, 0.006),
+        (0.25, 1.0, 0.034),
+        (0.05, 0.5, 0.018),
+        (0.5, 0.05, 0.027),
+        (0.2, 1.0, 0.036),
+        (0.01, 1.0, 0.039),
+    ];
+    let (mut worst, mut failures) = (0.0f64, vec![]);
+    for (ax, ay, bound) in PAIRS {
         let ms = GgxConductorMs::new(GgxConductor::new(ax, ay, Fresnel::One));
         let mut line = format!("a=({ax},{ay}):");
         let mut pair = 0.0f64;
@@ -157,14 +170,38 @@ fn anisotropic_furnace_error_is_bounded() {
             line += &format!(" mu {mu}: {total:.4}");
             pair = pair.max((total - 1.0).abs());
         }
-        println!("{line}");
-        assert!(pair < 0.04, "a=({ax},{ay}): {pair}");
+        println!("{line}  worst {pair:.2e} (bound {bound})");
+        if pair >= bound {
+            failures.push(format!("a=({ax},{ay}): {pair:.3e} >= {bound}"));
+        }
         if ax.max(ay) / ax.min(ay) <= 4.0 {
             worst = worst.max(pair);
         }
     }
     println!("anisotropic (ratio <= 4): worst |albedo - 1| = {worst:.2e}");
-    assert!(worst < 0.012);
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The near-mirror grazing corner, densely (12 alphas and 12 view cosines per decade, alpha in
+/// [DELTA_ALPHA, 0.02], mu in [1e-4, 0.1]), where a `sqrt(alpha)` x `sqrt(mu)` table missed
+/// by 3.3 %: the furnace stays within 1 % (measured worst 4.9e-3; 0.6 % asserted).
+#[test]
+fn near_mirror_grazing_furnace_is_within_one_percent() {
+    let mut worst = (0.0f64, 0.0f32, 0.0f32);
+    for a in 0..=16 {
+        let alpha = 10f32.powf(-3.0 + a as f32 / 12.0);
+        let ms = GgxConductorMs::new(GgxConductor::isotropic(alpha, Fresnel::One));
+        for m in 0..=36 {
+            let mu = 10f32.powf(-4.0 + m as f32 / 12.0);
+            let wo = wo_mu(mu);
+            let err = (single_albedo(&ms.conductor, wo) + ms_albedo(&ms, wo) - 1.0).abs();
+            if err > worst.0 {
+                worst = (err, alpha, mu);
+            }
+        }
+    }
+    println!("near mirror, dense: worst |albedo - 1| = {:.2e} at alpha {}, mu {}", worst.0, worst.1, worst.2);
+    assert!(worst.0 < 0.006, "{worst:?}");
 }
 
 fn fresnels() -> [Fresnel; 4] {
