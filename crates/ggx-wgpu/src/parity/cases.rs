@@ -604,17 +604,27 @@ fn sample_at_gpu_wi(
     got: &[u32],
     cpu: &[Expect],
 ) -> Option<Vec<Expect>> {
+    let wi = differing_gpu_wi(got, cpu)?;
+    let wo = i.va();
+    let pdf = k.pdf(wo, wi, Sampling::from_u32(i.n[0]));
+    Some(rebased(cpu, k.eval(wo, wi) / pdf, pdf))
+}
+
+/// The GPU's `wi` of a sample row (words: valid, delta, wi, weight, pdf) where it differs from
+/// ggx-core's in a sample both call valid and non-delta; `None` where nothing is rebased.
+fn differing_gpu_wi(got: &[u32], cpu: &[Expect]) -> Option<Vec3> {
     let same_wi = (2..5).all(|w| matches!(cpu[w], Expect::Float(c) if c.to_bits() == got[w]));
     if same_wi || !matches!((cpu[0], cpu[1]), (Expect::Bits(1), Expect::Bits(0))) || got[..2] != [1, 0] {
         return None;
     }
-    let wi = Vec3::new(f32::from_bits(got[2]), f32::from_bits(got[3]), f32::from_bits(got[4]));
-    let wo = i.va();
-    let pdf = k.pdf(wo, wi, Sampling::from_u32(i.n[0]));
-    let weight = k.eval(wo, wi) / pdf;
+    Some(Vec3::new(f32::from_bits(got[2]), f32::from_bits(got[3]), f32::from_bits(got[4])))
+}
+
+/// ggx-core's expected words with the weight and pdf replaced by those at the GPU's `wi`.
+fn rebased(cpu: &[Expect], weight: Vec3, pdf: f32) -> Vec<Expect> {
     let mut e = cpu[..5].to_vec();
     e.extend(floats(&[weight.x, weight.y, weight.z, pdf]));
-    Some(e)
+    e
 }
 
 /// [`sample_at_gpu_wi`] for `ggx_dielectric_sample`: where the GPU's `wi` differs from
@@ -629,17 +639,10 @@ fn dielectric_sample_at_gpu_wi(
     got: &[u32],
     cpu: &[Expect],
 ) -> Option<Vec<Expect>> {
-    let same_wi = (2..5).all(|w| matches!(cpu[w], Expect::Float(c) if c.to_bits() == got[w]));
-    if same_wi || !matches!((cpu[0], cpu[1]), (Expect::Bits(1), Expect::Bits(0))) || got[..2] != [1, 0] {
-        return None;
-    }
-    let wi = Vec3::new(f32::from_bits(got[2]), f32::from_bits(got[3]), f32::from_bits(got[4]));
+    let wi = differing_gpu_wi(got, cpu)?;
     let (wo, m) = (i.va(), mode(i.n[1]));
     let pdf = k.pdf(wo, wi, Sampling::from_u32(i.n[0]), m);
-    let weight = k.eval(wo, wi, m) / pdf;
-    let mut e = cpu[..5].to_vec();
-    e.extend(floats(&[weight.x, weight.y, weight.z, pdf]));
-    Some(e)
+    Some(rebased(cpu, k.eval(wo, wi, m) / pdf, pdf))
 }
 
 /// Bound for outputs that are a few correctly rounded operations on the CPU and may be a few
