@@ -11,7 +11,8 @@
 //!   (see [`stress`]).
 //! * `fuzz [--cases N]`: the mutation tests of every file reader and ggx-core's contract with
 //!   a long budget (see [`fuzz`]).
-//! * `tables [--check]`: regenerates ggx-core's energy-compensation tables (see [`tables`]).
+//! * `tables [--check]`: regenerates ggx-core's energy-compensation tables (see [`tables`] and
+//!   [`tables_dielectric`]).
 
 mod bench;
 mod diff;
@@ -19,6 +20,7 @@ mod fuzz;
 mod render;
 mod stress;
 mod tables;
+mod tables_dielectric;
 
 use std::process::{Command, ExitCode};
 use std::time::Instant;
@@ -39,9 +41,11 @@ const USAGE: &str = "usage: cargo xtask <command>
                                  (default 1e8; --quick: 1e6); fails on any NaN/inf or invalid accepted sample
   fuzz [--cases N]               mutation tests of the scene, OBJ, HDR and EXR readers and ggx-core's
                                  any-f32 contract with N cases each (default 20000; CI runs a short budget)
-  tables [--check]               regenerate ggx-core's energy-compensation tables E(mu, alpha) and E_avg(alpha)
-                                 (crates/ggx-core/src/energy_tables.rs) from ggx-core's eval in f64;
-                                 --check: fail when the committed file differs";
+  tables [--check]               regenerate ggx-core's energy-compensation tables from ggx-core's own code in f64:
+                                 the conductor's E(mu, alpha), E_avg(alpha) (crates/ggx-core/src/energy_tables.rs),
+                                 the dielectric's E_T(mu, alpha, eta') and the plastic coat's E_R, E_R_avg
+                                 (crates/ggx-core/src/energy_dielectric_tables.rs);
+                                 --check: fail when a committed file differs";
 
 /// The crate that proves ggx-core builds without std. It must be built on its own: built
 /// together with crates that enable ggx-core's `std` feature, feature unification would

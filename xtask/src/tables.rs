@@ -1,5 +1,6 @@
-//! `cargo xtask tables`: the energy-compensation tables of ggx-core (Kulla & Conty 2017),
-//! written to `crates/ggx-core/src/energy_tables.rs`.
+//! `cargo xtask tables`: the energy-compensation tables of ggx-core's conductor (Kulla & Conty
+//! 2017), written to `crates/ggx-core/src/energy_tables.rs`; the same command writes the
+//! dielectric's and the plastic coat's tables ([`crate::tables_dielectric`]).
 //!
 //! * `E(mu, alpha)`, the directional albedo of the `F = 1` single-scattering GGX conductor,
 //!   on a [`N`] x [`N`] grid: rows at `alpha = ggx_core::energy::row_alpha(j / (N - 1))`
@@ -45,7 +46,7 @@ const GL5_WEIGHTS: [f64; 5] =
     [0.23692688505618908, 0.47862867049936647, 128.0 / 225.0, 0.47862867049936647, 0.23692688505618908];
 
 /// Nodes and weights of the composite 5-point Gauss-Legendre rule with `panels` panels on `[0, 1]`.
-fn composite_gl(panels: usize) -> Vec<(f64, f64)> {
+pub(crate) fn composite_gl(panels: usize) -> Vec<(f64, f64)> {
     let h = 1.0 / panels as f64;
     (0..panels)
         .flat_map(|p| {
@@ -66,7 +67,13 @@ pub fn albedo(mu: f32, alpha: f32) -> f64 {
 
 /// [`albedo`] with `2 panels` x `panels` Gauss-Legendre panels (`s` x `v`).
 fn albedo_with(mu: f32, alpha: f32, panels: usize) -> f64 {
-    let brdf = GgxConductor::isotropic(alpha, Fresnel::One);
+    conductor_albedo(&GgxConductor::isotropic(alpha, Fresnel::One), mu, panels)
+}
+
+/// `integral f(wo, wi) |wi.z| dwi` (red channel) of any conductor, `wo = (sqrt(1 - mu^2), 0,
+/// mu)`, by the rule of [`albedo`] with `2 panels` x `panels` panels; also the plastic coat's
+/// `E_R` (`tables_dielectric.rs`).
+pub(crate) fn conductor_albedo(brdf: &GgxConductor, mu: f32, panels: usize) -> f64 {
     let mu = mu.max(MU_MIN).min(1.0);
     let wo = Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
     if brdf.is_delta() {
@@ -99,14 +106,16 @@ fn average_albedo(alpha: f32) -> f64 {
 }
 
 /// `2 integral_0^1 E_lin(mu) mu dmu = integral_0^1 E_lin(x) 8 x^7 dx` of the piecewise-linear
-/// interpolant in `x = mu^(1/4)` of one table row, exactly (5-point Gauss-Legendre per cell, a
-/// degree-8 integrand): the `E_avg` the lookup is consistent with, so that the
-/// multiple-scattering lobe built from the interpolated `E` integrates to exactly `F_ms (1 -
-/// E(mu_o))` and the furnace error is the interpolation error of `E(mu_o)` alone.
-fn interpolant_average(e: &[f32; N]) -> f64 {
-    let h = 1.0 / (N - 1) as f64;
+/// interpolant in `x = mu^(1/4)` of one table row (nodes at `x = i / (len - 1)`), exactly
+/// (5-point Gauss-Legendre per cell, a degree-8 integrand): the `E_avg` the lookup is
+/// consistent with, so that the multiple-scattering lobe built from the interpolated `E`
+/// integrates to exactly `F_ms (1 - E(mu_o))` and the furnace error is the interpolation error
+/// of `E(mu_o)` alone. Also the coat's `E_R_avg` (`tables_dielectric.rs`).
+pub(crate) fn interpolant_average(e: &[f32]) -> f64 {
+    let n = e.len();
+    let h = 1.0 / (n - 1) as f64;
     let mut sum = 0.0f64;
-    for i in 0..N - 1 {
+    for i in 0..n - 1 {
         let (a, b) = (e[i] as f64, e[i + 1] as f64);
         for (&t, &w) in GL5_NODES.iter().zip(&GL5_WEIGHTS) {
             let f = 0.5 * (t + 1.0);
@@ -171,27 +180,31 @@ pub fn path() -> PathBuf {
     crate::render::workspace_root().join("crates/ggx-core/src/energy_tables.rs")
 }
 
-/// `cargo xtask tables [--check]`: writes the tables, or with `--check` fails when the
-/// committed file differs from a fresh generation.
+/// `cargo xtask tables [--check]`: writes both table files (this one and
+/// [`crate::tables_dielectric`]'s), or with `--check` fails when a committed file differs from
+/// a fresh generation.
 pub fn run(args: &[String]) -> Result<(), String> {
     let check = match args {
         [] => false,
         [a] if a == "--check" => true,
         _ => return Err(format!("tables: unexpected arguments {args:?} (usage: tables [--check])")),
     };
-    let text = generate();
-    let path = path();
-    if check {
-        let old = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-        if old != text {
-            return Err(format!("{} is out of date: run `cargo xtask tables`", path.display()));
+    let files = [(path(), generate()), (crate::tables_dielectric::path(), crate::tables_dielectric::generate())];
+    let mut stale = vec![];
+    for (path, text) in files {
+        if check {
+            let old = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+            if old != text {
+                stale.push(path.display().to_string());
+            } else {
+                eprintln!("{} is up to date", path.display());
+            }
+        } else {
+            std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+            eprintln!("wrote {}", path.display());
         }
-        eprintln!("{} is up to date", path.display());
-        return Ok(());
     }
-    std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
-    eprintln!("wrote {}", path.display());
-    Ok(())
+    if stale.is_empty() { Ok(()) } else { Err(format!("out of date: {}; run `cargo xtask tables`", stale.join(", "))) }
 }
 
 #[cfg(test)]

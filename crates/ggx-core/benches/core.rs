@@ -5,7 +5,10 @@
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use ggx_core::batch::{self, Vec3Slices, Vec3SlicesMut};
-use ggx_core::{Fresnel, GgxConductor, GgxConductorMs, Sampling, Vec2, Vec3, energy, warp};
+use ggx_core::{
+    Fresnel, GgxConductor, GgxConductorMs, GgxDielectric, GgxDielectricMs, Sampling, TransportMode, Vec2, Vec3, energy,
+    energy_dielectric, warp,
+};
 use rand_core::{Rng, SeedableRng};
 use std::hint::black_box;
 
@@ -127,5 +130,34 @@ fn energy_compensation(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, scalar, batched, energy_compensation);
+/// Dielectric energy compensation: `GgxDielectricMs::eval` against `GgxDielectric::eval` (glass,
+/// alpha 0.3, every other `wi` flipped below the surface so that half the pairs transmit) and
+/// the trilinear lookup `energy_dielectric::dielectric_albedo` alone.
+fn dielectric_energy_compensation(c: &mut Criterion) {
+    let v = inputs();
+    let wi: Vec<Vec3> =
+        v.wi.iter().enumerate().map(|(i, &w)| if i % 2 == 1 { Vec3::new(w.x, w.y, -w.z) } else { w }).collect();
+    let dielectric = GgxDielectric::isotropic(0.3, 1.5);
+    let ms = GgxDielectricMs::new(dielectric);
+    let mode = TransportMode::Radiance;
+    let mut g = c.benchmark_group("dielectric_energy");
+    g.throughput(Throughput::Elements(N as u64));
+    g.bench_function("dielectric_eval", |b| {
+        b.iter(|| v.wo.iter().zip(&wi).map(|(&o, &i)| dielectric.eval(black_box(o), i, mode).x).sum::<f32>())
+    });
+    g.bench_function("dielectric_ms_eval", |b| {
+        b.iter(|| v.wo.iter().zip(&wi).map(|(&o, &i)| ms.eval(black_box(o), i, mode).x).sum::<f32>())
+    });
+    g.bench_function("dielectric_albedo", |b| {
+        b.iter(|| {
+            v.wo.iter()
+                .zip(&v.u)
+                .map(|(&o, &u)| energy_dielectric::dielectric_albedo(black_box(o.z), u.x, 1.5))
+                .sum::<f32>()
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, scalar, batched, energy_compensation, dielectric_energy_compensation);
 criterion_main!(benches);

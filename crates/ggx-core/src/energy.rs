@@ -14,6 +14,10 @@
 //!   2)`, not the `sqrt(alpha_x alpha_y)` of Kulla & Conty / Cycles, which leaves 6.9 % furnace
 //!   error at (0.1, 0.4), 18 % at (0.25, 1) and 45 % at (0.01, 1) where the RMS leaves 1.1 %,
 //!   3.1 % and 3.5 %.
+//! * The dielectric's and the plastic coat's albedos live in [`crate::energy_dielectric`]; its
+//!   lookups are re-exported here.
+
+pub use crate::energy_dielectric::{coat_albedo, coat_average_albedo, dielectric_albedo, plastic_base_weight};
 
 use crate::TrowbridgeReitz;
 use crate::energy_tables::{E, E_AVG, N};

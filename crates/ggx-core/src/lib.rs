@@ -20,6 +20,10 @@
 //!   (energy compensation), tables in [`energy`] and [`energy_tables`].
 //! * [`GgxDielectric`]: reflection and transmission through one rough interface (Walter et
 //!   al. 2007), with [`TransportMode`] and [`refract`].
+//! * [`GgxDielectricMs`]: the dielectric scaled by its inverse albedo (Turquin 2019), so that
+//!   it loses no energy from either side; tables in [`energy_dielectric`] and
+//!   [`energy_dielectric_tables`], which also hold the plastic coat's albedo and the base
+//!   weight [`energy_dielectric::plastic_base_weight`].
 //! * [`Bxdf`]: the one BSDF interface both implement (static dispatch), with [`BxdfFlags`].
 //! * [`mis`]: balance and power heuristics that survive infinite and zero densities.
 //! * [`Frame`]: the branchless orthonormal basis of Duff et al. 2017.
@@ -47,8 +51,12 @@ mod bxdf;
 mod conductor;
 mod conductor_ms;
 mod dielectric;
+mod dielectric_ms;
 mod distribution;
 pub mod energy;
+pub mod energy_dielectric;
+#[rustfmt::skip]
+pub mod energy_dielectric_tables;
 #[rustfmt::skip]
 pub mod energy_tables;
 mod frame;
@@ -61,6 +69,7 @@ mod sample_spherical_caps;
 mod sample_vndf;
 mod sampling;
 pub mod sequence;
+mod thin_dielectric;
 pub mod warp;
 
 pub use alpha::{ALPHA_MAX, ALPHA_MIN, DELTA_ALPHA, alpha_to_roughness, roughness_to_alpha};
@@ -68,11 +77,13 @@ pub use bxdf::{Bxdf, BxdfFlags, TransportMode};
 pub use conductor::{BsdfSample, GgxConductor};
 pub use conductor_ms::GgxConductorMs;
 pub use dielectric::{ETA_MAX, ETA_MIN, GgxDielectric, clamp_eta, refract};
+pub use dielectric_ms::GgxDielectricMs;
 pub use distribution::TrowbridgeReitz;
 pub use frame::{Frame, reflect};
 pub use fresnel::{Fresnel, FresnelParams};
 pub use sampling::Sampling;
 pub use sequence::{CounterRng, SampleStream, SequenceKind};
+pub use thin_dielectric::ThinDielectric;
 
 /// Re-exported so users of the public API need not depend on glam themselves.
 pub use glam::{Vec2, Vec3};

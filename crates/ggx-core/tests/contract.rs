@@ -16,6 +16,11 @@ use ggx_core::energy::{
     albedo, alpha_coordinate, average_albedo, column_mu, effective_alpha, mu_coordinate, multiple_scattering_fresnel,
     row_alpha,
 };
+use ggx_core::energy_dielectric::{
+    DIELECTRIC_ALBEDO_MIN, ETA_TABLE_MAX, coat_albedo, coat_albedo_table, coat_average_albedo,
+    coat_average_albedo_table, dielectric_albedo, dielectric_albedo_inside_table, dielectric_albedo_outside_table,
+    eta_coordinate, plastic_base_weight, slice_eta,
+};
 use ggx_core::fresnel::{FresnelParams, fresnel_complex, fresnel_dielectric, fresnel_schlick, kind};
 use ggx_core::math::{self, ONE_MINUS_EPSILON};
 use ggx_core::mis::{balance_heuristic, power_heuristic};
@@ -24,8 +29,8 @@ use ggx_core::sequence::{
 };
 use ggx_core::{
     ALPHA_MAX, ALPHA_MIN, BsdfSample, Bxdf, BxdfFlags, DELTA_ALPHA, ETA_MAX, ETA_MIN, Frame, Fresnel, GgxConductor,
-    GgxConductorMs, GgxDielectric, Sampling, TransportMode, TrowbridgeReitz, Vec2, Vec3, alpha, alpha_to_roughness,
-    clamp_eta, reflect, refract, roughness_to_alpha, warp,
+    GgxConductorMs, GgxDielectric, GgxDielectricMs, Sampling, TransportMode, TrowbridgeReitz, Vec2, Vec3, alpha,
+    alpha_to_roughness, clamp_eta, reflect, refract, roughness_to_alpha, warp,
 };
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
@@ -155,6 +160,22 @@ fn constructed_ms(m: GgxConductorMs) -> GgxConductorMs {
 
 fn constructed_dielectric(b: GgxDielectric) -> GgxDielectric {
     GgxDielectric::new(b.distribution.alpha_x, b.distribution.alpha_y, b.eta)
+}
+
+/// A compensated dielectric whose every field bypasses the constructor (any `compensation` and
+/// `pad`); sometimes built by `new`, sometimes all 32 bytes arbitrary.
+fn raw_dielectric_ms() -> impl Strategy<Value = GgxDielectricMs> {
+    let comp = prop_oneof![2 => Just(1u32), 1 => Just(0u32), 1 => any::<u32>()];
+    prop_oneof![
+        4 => (raw_dielectric(), comp, any::<[u32; 3]>())
+            .prop_map(|(dielectric, compensation, pad)| GgxDielectricMs { dielectric, compensation, pad }),
+        2 => raw_dielectric().prop_map(GgxDielectricMs::new),
+        1 => any::<[u32; 8]>().prop_map(bytemuck::cast::<[u32; 8], GgxDielectricMs>),
+    ]
+}
+
+fn constructed_dielectric_ms(m: GgxDielectricMs) -> GgxDielectricMs {
+    GgxDielectricMs { dielectric: constructed_dielectric(m.dielectric), ..m }
 }
 
 fn mode() -> impl Strategy<Value = TransportMode> {
@@ -1334,5 +1355,168 @@ proptest! {
         prop_assert!(same(Bxdf::pdf(&m, wo, wi, s, md), m.pdf(wo, wi, s)));
         prop_assert_eq!(sample_key(Bxdf::sample(&m, wo, u, ul, s, md)), sample_key(m.sample(wo, u, ul, s)));
         prop_assert_eq!(Bxdf::flags(&m), Bxdf::flags(&m.conductor));
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// energy_dielectric, GgxDielectricMs
+// ---------------------------------------------------------------------------------------------
+
+/// `eta` clamped to `[1, ETA_TABLE_MAX]`, NaN -> 1 (the clamp of the slice coordinate).
+fn clamp_slice_eta(eta: f32) -> f32 {
+    eta.max(1.0).min(ETA_TABLE_MAX)
+}
+
+/// Every accessor hands out its whole table: `dims` multiply to the length, outermost first
+/// with the shared `[N_ETA, N_ALPHA]`, and every value is an albedo in `[0, 1]`.
+#[test]
+fn energy_dielectric_tables_accessors() {
+    let tables = [
+        dielectric_albedo_outside_table(),
+        dielectric_albedo_inside_table(),
+        coat_albedo_table(),
+        coat_average_albedo_table(),
+    ];
+    for (values, dims) in tables {
+        assert_eq!(values.len(), dims.iter().product::<usize>());
+        assert_eq!(dims[..2], tables[0].1[..2]);
+        assert!(values.iter().all(|v| unit_interval(*v)));
+    }
+    assert_eq!(coat_average_albedo_table().1[2], 1);
+}
+
+proptest! {
+    #![proptest_config(config())]
+
+    /// In `[0, 1]`; `eta` clamped to `[1, ETA_TABLE_MAX]` with NaN -> 1 (same bits); the inverse
+    /// of `slice_eta` there.
+    #[test]
+    fn energy_dielectric_eta_coordinate(eta in prop_oneof![3 => field(), 1 => 1.0f32..3.5]) {
+        let t = eta_coordinate(eta);
+        prop_assert!(unit_interval(t), "{eta} -> {t}");
+        prop_assert!(same(t, eta_coordinate(clamp_slice_eta(eta))), "{eta} -> {t}");
+        if (1.0..=ETA_TABLE_MAX).contains(&eta) {
+            let back = slice_eta(t);
+            prop_assert!((back - eta).abs() <= 2e-6 * eta, "{eta} -> {t} -> {back}");
+        }
+    }
+
+    /// In `[1, ETA_TABLE_MAX]`, exactly 1 and `ETA_TABLE_MAX` at the ends; `t` clamped, NaN -> 0.
+    #[test]
+    fn energy_dielectric_slice_eta(t in any_f32()) {
+        let eta = slice_eta(t);
+        prop_assert!((1.0..=ETA_TABLE_MAX).contains(&eta), "{t} -> {eta}");
+        prop_assert!(same(eta, slice_eta(clamp01(t))));
+        prop_assert!(slice_eta(0.0) == 1.0 && slice_eta(1.0) == ETA_TABLE_MAX);
+    }
+
+    /// In `[DIELECTRIC_ALBEDO_MIN, 1]`; `mu`, `alpha` clamped to `[0, 1]` (NaN -> 0) and `eta'`
+    /// through `clamp_eta` (same bits).
+    #[test]
+    fn energy_dielectric_dielectric_albedo(mu in any_f32(), a in field(), etap in prop_oneof![3 => field(), 1 => 0.2f32..4.0]) {
+        let e = dielectric_albedo(mu, a, etap);
+        prop_assert!((DIELECTRIC_ALBEDO_MIN..=1.0).contains(&e), "{mu} {a} {etap} -> {e}");
+        prop_assert!(same(e, dielectric_albedo(clamp01(mu), clamp01(a), clamp_eta(etap))), "{mu} {a} {etap} -> {e}");
+    }
+
+    /// In `[0, 1]`; `mu`, `alpha` clamped to `[0, 1]`, `eta` to `[1, ETA_TABLE_MAX]` (NaN -> 0, 0, 1;
+    /// same bits).
+    #[test]
+    fn energy_dielectric_coat_albedo(mu in any_f32(), a in field(), eta in prop_oneof![3 => field(), 1 => 1.0f32..4.0]) {
+        let e = coat_albedo(mu, a, eta);
+        prop_assert!(unit_interval(e), "{mu} {a} {eta} -> {e}");
+        prop_assert!(same(e, coat_albedo(clamp01(mu), clamp01(a), clamp_slice_eta(eta))), "{mu} {a} {eta} -> {e}");
+    }
+
+    /// In `[0, 1]`; clamped as `coat_albedo` (same bits).
+    #[test]
+    fn energy_dielectric_coat_average_albedo(a in field(), eta in prop_oneof![3 => field(), 1 => 1.0f32..4.0]) {
+        let e = coat_average_albedo(a, eta);
+        prop_assert!(unit_interval(e), "{a} {eta} -> {e}");
+        prop_assert!(same(e, coat_average_albedo(clamp01(a), clamp_slice_eta(eta))), "{a} {eta} -> {e}");
+    }
+
+    /// Finite, `>= 0`, symmetric in `mu_o` and `mu_i` (bit for bit); clamped as `coat_albedo`.
+    #[test]
+    fn energy_dielectric_plastic_base_weight(mo in any_f32(), mi in any_f32(), a in field(), eta in prop_oneof![3 => field(), 1 => 1.0f32..4.0]) {
+        let w = plastic_base_weight(mo, mi, a, eta);
+        prop_assert!(ok(w), "{mo} {mi} {a} {eta} -> {w}");
+        prop_assert!(same(w, plastic_base_weight(mi, mo, a, eta)));
+        prop_assert!(same(w, plastic_base_weight(clamp01(mo), clamp01(mi), clamp01(a), clamp_slice_eta(eta))));
+    }
+
+    #[test]
+    fn ggx_dielectric_ms_new(b in raw_dielectric()) {
+        let m = GgxDielectricMs::new(b);
+        prop_assert_eq!(bytemuck::bytes_of(&m.dielectric), bytemuck::bytes_of(&b));
+        prop_assert_eq!((m.compensation, m.pad), (1, [0; 3]));
+    }
+
+    #[test]
+    fn ggx_dielectric_ms_is_compensated(m in raw_dielectric_ms()) {
+        prop_assert_eq!(m.is_compensated(), m.compensation != 0 && !m.dielectric.is_delta(), "{:?}", m);
+        prop_assert_eq!(m.is_compensated(), constructed_dielectric_ms(m).is_compensated());
+    }
+
+    /// In `[1, 1 / DIELECTRIC_ALBEDO_MIN]`, exactly 1 when off; as `constructed`.
+    #[test]
+    fn ggx_dielectric_ms_compensation_scale(m in raw_dielectric_ms(), wo in dir()) {
+        let k = m.compensation_scale(wo);
+        prop_assert!((1.0..=1.0 / DIELECTRIC_ALBEDO_MIN).contains(&k), "{m:?} {wo:?} -> {k}");
+        if !m.is_compensated() {
+            prop_assert_eq!(k, 1.0);
+        }
+        prop_assert!(same(k, constructed_dielectric_ms(m).compensation_scale(wo)), "{m:?} {wo:?} -> {k}");
+    }
+
+    /// Finite, `>= 0`: the dielectric's `eval` times the scale (bit for bit; exactly the
+    /// dielectric's when off); as `constructed`.
+    #[test]
+    fn ggx_dielectric_ms_eval(m in raw_dielectric_ms(), wo in dir(), wi in dir(), md in mode()) {
+        let f = m.eval(wo, wi, md);
+        prop_assert!(ok3(f), "{m:?} {wo:?} {wi:?} -> {f:?}");
+        let ss = m.dielectric.eval(wo, wi, md);
+        prop_assert!(same3(f, if m.is_compensated() { ss * m.compensation_scale(wo) } else { ss }), "{m:?} -> {f:?}");
+        prop_assert!(same3(f, constructed_dielectric_ms(m).eval(wo, wi, md)), "{m:?} {wo:?} {wi:?} -> {f:?}");
+    }
+
+    /// Exactly the dielectric's pdf; as `constructed`.
+    #[test]
+    fn ggx_dielectric_ms_pdf(m in raw_dielectric_ms(), wo in dir(), wi in dir(), s in sampling(), md in mode()) {
+        let p = m.pdf(wo, wi, s, md);
+        prop_assert!(ok(p), "{m:?} {wo:?} {wi:?} {s:?} -> {p}");
+        prop_assert!(same(p, m.dielectric.pdf(wo, wi, s, md)));
+        prop_assert!(same(p, constructed_dielectric_ms(m).pdf(wo, wi, s, md)));
+    }
+
+    /// The dielectric's sample (same `wi`, `pdf`, `is_delta`, `None`s) with a rough sample's
+    /// weight times the scale when compensated; `Some`: unit `wi` off the horizon, finite weight
+    /// `>= 0`, pdf finite `> 0`; exactly the dielectric's when off; as `constructed`.
+    #[test]
+    fn ggx_dielectric_ms_sample(m in raw_dielectric_ms(), wo in dir(), u in vec2(), ul in any_f32(), s in sampling(), md in mode()) {
+        let r = m.sample(wo, u, ul, s, md);
+        let ss = m.dielectric.sample(wo, u, ul, s, md);
+        if let Some(bs) = r {
+            prop_assert!((bs.wi.length() - 1.0).abs() < 1e-5 && bs.wi.z != 0.0, "{m:?} {s:?} wi {:?}", bs.wi);
+            prop_assert!(ok3(bs.weight), "{m:?} {s:?} weight {:?}", bs.weight);
+            prop_assert!(bs.pdf > 0.0 && bs.pdf.is_finite(), "{m:?} {s:?} pdf {}", bs.pdf);
+        }
+        if m.is_compensated() {
+            let scaled = ss.map(|b| if b.is_delta { b } else { BsdfSample { weight: b.weight * m.compensation_scale(wo), ..b } });
+            prop_assert_eq!(sample_key(r), sample_key(scaled));
+        } else {
+            prop_assert_eq!(sample_key(r), sample_key(ss));
+        }
+        prop_assert_eq!(sample_key(r), sample_key(constructed_dielectric_ms(m).sample(wo, u, ul, s, md)));
+    }
+
+    /// The `Bxdf` impl forwards to the inherent methods (bit for bit) and has the dielectric's
+    /// flags.
+    #[test]
+    fn bxdf_dielectric_ms(m in raw_dielectric_ms(), wo in dir(), wi in dir(), u in vec2(), ul in any_f32(), s in sampling(), md in mode()) {
+        prop_assert!(same3(Bxdf::eval(&m, wo, wi, md), m.eval(wo, wi, md)));
+        prop_assert!(same(Bxdf::pdf(&m, wo, wi, s, md), m.pdf(wo, wi, s, md)));
+        prop_assert_eq!(sample_key(Bxdf::sample(&m, wo, u, ul, s, md)), sample_key(m.sample(wo, u, ul, s, md)));
+        prop_assert_eq!(Bxdf::flags(&m), Bxdf::flags(&m.dielectric));
     }
 }
