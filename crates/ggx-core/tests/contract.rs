@@ -29,8 +29,8 @@ use ggx_core::sequence::{
 };
 use ggx_core::{
     ALPHA_MAX, ALPHA_MIN, BsdfSample, Bxdf, BxdfFlags, DELTA_ALPHA, ETA_MAX, ETA_MIN, Frame, Fresnel, GgxConductor,
-    GgxConductorMs, GgxDielectric, GgxDielectricMs, Sampling, TransportMode, TrowbridgeReitz, Vec2, Vec3, alpha,
-    alpha_to_roughness, clamp_eta, reflect, refract, roughness_to_alpha, warp,
+    GgxConductorMs, GgxDielectric, GgxDielectricMs, Sampling, ThinDielectric, TransportMode, TrowbridgeReitz, Vec2,
+    Vec3, alpha, alpha_to_roughness, clamp_eta, reflect, refract, roughness_to_alpha, warp,
 };
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
@@ -1518,5 +1518,42 @@ proptest! {
         prop_assert!(same(Bxdf::pdf(&m, wo, wi, s, md), m.pdf(wo, wi, s, md)));
         prop_assert_eq!(sample_key(Bxdf::sample(&m, wo, u, ul, s, md)), sample_key(m.sample(wo, u, ul, s, md)));
         prop_assert_eq!(Bxdf::flags(&m), Bxdf::flags(&m.dielectric));
+    }
+}
+
+// ThinDielectric
+
+proptest! {
+    #![proptest_config(config())]
+
+    /// `new` stores `clamp_eta(eta)`; `reflectance` is in `[0, 1]` for any cosine and any
+    /// stored bits, even in the cosine's sign, 1 at grazing incidence.
+    #[test]
+    fn thin_dielectric_reflectance(eta in any_f32(), bits in any::<u32>(), c in any_f32()) {
+        let sheet = ThinDielectric::new(eta);
+        prop_assert!(same(sheet.eta, ggx_core::clamp_eta(eta)));
+        for t in [sheet, ThinDielectric { eta: f32::from_bits(bits), pad: bits }] {
+            let r = t.reflectance(c);
+            prop_assert!((0.0..=1.0).contains(&r), "{t:?} cos {c}: {r}");
+            prop_assert!(same(r, t.reflectance(-c)));
+            prop_assert_eq!(t.reflectance(0.0), 1.0);
+        }
+    }
+
+    /// `sample`: `None` or the mirror / `-wo` (unit, off the horizon) with weight 1, the lobe's
+    /// probability as pdf in `(0, 1]`, delta; `Bxdf` forwards and has both delta lobes.
+    #[test]
+    fn thin_dielectric_sample(eta in any_f32(), bits in any::<u32>(), wo in dir(), u in vec2(), ul in any_f32(), s in sampling(), md in mode()) {
+        for t in [ThinDielectric::new(eta), ThinDielectric { eta: f32::from_bits(bits), pad: 0 }] {
+            let r = t.sample(wo, ul);
+            if let Some(bs) = r {
+                prop_assert!((bs.wi.length() - 1.0).abs() < 1e-5 && bs.wi.z != 0.0, "{t:?} wi {:?}", bs.wi);
+                prop_assert!(bs.is_delta && bs.weight == Vec3::ONE, "{t:?} {bs:?}");
+                prop_assert!(bs.pdf > 0.0 && bs.pdf <= 1.0, "{t:?} pdf {}", bs.pdf);
+            }
+            prop_assert_eq!(sample_key(Bxdf::sample(&t, wo, u, ul, s, md)), sample_key(r));
+            prop_assert!(same3(Bxdf::eval(&t, wo, wo, md), Vec3::ZERO) && same(Bxdf::pdf(&t, wo, wo, s, md), 0.0));
+            prop_assert!(Bxdf::flags(&t).is_delta() && Bxdf::flags(&t).is_transmissive());
+        }
     }
 }
