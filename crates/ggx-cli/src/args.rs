@@ -103,6 +103,12 @@ pub struct RenderArgs {
     #[arg(long)]
     pub generic: bool,
 
+    /// Energy compensation of every GGX material (multiple scattering: Kulla & Conty for
+    /// conductors, the albedo scale for dielectrics, the coat's 1 - E for plastics)
+    /// [default: each material's energy_compensation, itself on by default].
+    #[arg(long, value_enum, value_name = "ON|OFF")]
+    pub energy_compensation: Option<OnOff>,
+
     /// Limits on what is read and allocated.
     #[command(flatten, next_help_heading = "Limits")]
     pub limits: LimitArgs,
@@ -131,6 +137,15 @@ pub enum Backend {
     Wgpu,
     /// wgpu when available, else the CPU.
     Auto,
+}
+
+/// A switch given on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum OnOff {
+    /// Enabled.
+    On,
+    /// Disabled.
+    Off,
 }
 
 /// `--tonemap`.
@@ -196,6 +211,10 @@ mod tests {
         let r = parse(&[]).unwrap();
         assert_eq!((r.spp, r.time, r.threads, r.backend), (None, None, 0, Backend::Cpu));
         assert_eq!((r.exposure, r.tonemap, r.accel, r.generic), (0.0, ToneMapArg::Aces, AccelArg::Cwbvh, false));
+        assert_eq!(r.energy_compensation, None);
+        assert_eq!(parse(&["--energy-compensation", "off"]).unwrap().energy_compensation, Some(OnOff::Off));
+        assert_eq!(parse(&["--energy-compensation", "on"]).unwrap().energy_compensation, Some(OnOff::On));
+        assert!(parse(&["--energy-compensation", "maybe"]).is_err());
         let r = parse(&["--spp", "8", "--time", "1.5", "--exposure", "-2", "--accel", "bvh2", "--generic"]).unwrap();
         assert_eq!((r.spp, r.time, r.exposure, r.accel, r.generic), (Some(8), Some(1.5), -2.0, AccelArg::Bvh2, true));
         // 0 is no budget, as `time = 0` in a scene; huge budgets are accepted (no budget in effect).

@@ -119,6 +119,9 @@ fn material_kind(m: &Material) -> &'static str {
         Material::Conductor { .. } if m.is_anisotropic() => "anisotropic conductor",
         Material::Conductor { .. } => "conductor",
         Material::Plastic { .. } => "plastic",
+        Material::Dielectric { thin: true, .. } => "thin dielectric",
+        Material::Dielectric { .. } if m.is_anisotropic() => "anisotropic dielectric",
+        Material::Dielectric { .. } => "dielectric",
         Material::Emissive { .. } => "emissive",
     }
 }

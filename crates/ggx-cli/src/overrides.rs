@@ -4,10 +4,10 @@
 use anyhow::{Result, bail};
 use ggx_scene::{MAX_RESOLUTION, Scene};
 
-use crate::args::RenderArgs;
+use crate::args::{OnOff, RenderArgs};
 
-/// Applies `--spp`, `--time`, `--seed`, `--width` and `--height` (clap has range-checked
-/// each already).
+/// Applies `--spp`, `--time`, `--seed`, `--width`, `--height` (clap has range-checked
+/// each already) and `--energy-compensation`.
 pub fn apply(scene: &mut Scene, args: &RenderArgs) -> Result<()> {
     if let Some(spp) = args.spp {
         scene.integrator.spp = spp;
@@ -19,6 +19,9 @@ pub fn apply(scene: &mut Scene, args: &RenderArgs) -> Result<()> {
         scene.integrator.seed = seed;
     }
     scene.camera.resolution = resolution(scene.camera.resolution, args.width, args.height)?;
+    if let Some(on) = args.energy_compensation {
+        scene.set_energy_compensation(on == OnOff::On);
+    }
     Ok(())
 }
 

@@ -51,15 +51,33 @@ fn renders_png_and_exr_at_the_requested_size() {
     assert!((0.5..1.5).contains(&mean), "mean radiance {mean}");
 }
 
+/// `--energy-compensation off` darkens the furnace's rough GGX spheres; `on` (the scene's
+/// default) keeps every pixel near the environment's 1.
+#[test]
+fn energy_compensation_switch_changes_the_furnace() {
+    let dir = TempDir::new("compensation");
+    let mean = |switch: &str| {
+        let path = dir.path().join(format!("{switch}.exr"));
+        let args = ["--spp", "16", "--width", "96", "--energy-compensation", switch];
+        let out = ggx(&[&["render", &scene("furnace.toml"), "-o", path.to_str().unwrap()][..], &args[..]].concat());
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let (_, _, pixels) = ggx_film::read_exr(&path).unwrap();
+        pixels.iter().map(|p| p.x).sum::<f32>() / pixels.len() as f32
+    };
+    let (on, off) = (mean("on"), mean("off"));
+    assert!((on - 1.0).abs() < 0.02, "compensated furnace mean {on}");
+    assert!(off < on - 0.05, "single scattering {off} vs compensated {on}");
+}
+
 #[test]
 fn lone_width_keeps_the_aspect_ratio() {
     let dir = TempDir::new("aspect");
     let path = dir.path().join("a.png");
-    let out = ggx(&["render", &scene("furnace.toml"), "-o", path.to_str().unwrap(), "--spp", "1", "--width", "20"]);
+    let out = ggx(&["render", &scene("furnace.toml"), "-o", path.to_str().unwrap(), "--spp", "1", "--width", "60"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let png = image::open(&path).unwrap();
-    // furnace.toml is 256x128.
-    assert_eq!((png.width(), png.height()), (20, 10));
+    // furnace.toml is 480x112.
+    assert_eq!((png.width(), png.height()), (60, 14));
 }
 
 #[test]

@@ -2,10 +2,21 @@
 //! environment, multiple importance sampling (power heuristic) between light and BSDF
 //! sampling, Russian roulette (Veach 1997; pbrt-v4's `PathIntegrator`).
 //!
-//! `trace` is generic over three `const bool`s, `AREA`, `ENV` and `PLASTIC`: a scene
-//! without area lights, without an environment or without plastics runs a copy of the
-//! kernel with that code compiled out. Every variant draws the same sample dimensions in
-//! the same order, so a specialized kernel returns bit-identical radiance to the generic one.
+//! `trace` is generic over four `const bool`s, `AREA`, `ENV`, `PLASTIC` and `DIELECTRIC`: a
+//! scene without area lights, without an environment, without plastics or without dielectrics
+//! runs a copy of the kernel with that code compiled out.
+//!
+//! Dielectrics: a path transmitted into a dielectric's inside (the side its geometric normal
+//! does not point to) travels through that dielectric's absorbing medium until it is
+//! transmitted out again (Beer-Lambert `exp(-sigma t)` per segment). Media do not nest: a
+//! path inside one glass that enters another takes the second's medium and leaves into
+//! vacuum. Shadow rays stop at every surface, glass included (no caustics through glass by
+//! next-event estimation: those paths are found by BSDF sampling). Russian roulette decides on
+//! `beta` without the `1 / eta'^2` radiance scaling of the transmissions so far (pbrt-v4's
+//! `etaScale`), so a path inside dense glass is not killed for a factor that leaving undoes.
+//!
+//! Every variant draws the same sample dimensions in the same order, so a specialized kernel
+//! returns bit-identical radiance to the generic one.
 
 use crate::offset::offset_ray_origin;
 use crate::scene_data::SceneData;
@@ -76,9 +87,40 @@ pub fn shading_frame(n: Vec3) -> Frame {
     Frame { x, y: n.cross(x), z: n }
 }
 
+/// True when `wi` (shading frame) and `wi_world` lie on the same side of the geometric
+/// normal `ng` (the frame's `+z` side is `ng`'s), and, for a material that does not
+/// transmit, on the `+z` side.
+#[inline(always)]
+fn sides_agree(wi: Vec3, wi_world: Vec3, ng: Vec3, transmits: bool) -> bool {
+    let side = wi_world.dot(ng);
+    if transmits { side * wi.z > 0.0 } else { wi.z > 0.0 && side > 0.0 }
+}
+
+/// Beer-Lambert transmittance `exp(-sigma t)` of a segment of length `t` (`t = inf` with
+/// `sigma = 0` gives 1).
+#[inline(always)]
+fn transmittance(sigma: Vec3, t: f32) -> Vec3 {
+    let e = |s: f32| if s > 0.0 { (-s * t).exp() } else { 1.0 };
+    Vec3::new(e(sigma.x), e(sigma.y), e(sigma.z))
+}
+
+/// The absorption of the segment leaving a vertex toward `wi` (`wi_z` in the shading frame):
+/// a dielectric with an inside decides by the side (its own absorption inside, vacuum
+/// outside); any other material leaves the ray in the medium `current` it was in.
+#[inline(always)]
+fn segment_medium(bsdf: &Bsdf, current: Vec3, wi_z: f32) -> Vec3 {
+    if !bsdf.has_inside() {
+        current
+    } else if wi_z < 0.0 {
+        bsdf.absorption()
+    } else {
+        Vec3::ZERO
+    }
+}
+
 /// Radiance along the camera ray `(origin, dir)`.
 #[inline(always)]
-pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool>(
+pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELECTRIC: bool>(
     scene: &SceneData,
     mut origin: Vec3,
     mut dir: Vec3,
@@ -100,7 +142,7 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool>(
     };
     let p_env = if has_env { 1.0 - p_area } else { 0.0 };
     let draws = Draws {
-        lobe: scene.features.plastics,
+        lobe: scene.uses_lobe_sample,
         light: use_nee && (has_area || has_env),
         select: use_nee && has_area && has_env,
     };
@@ -111,9 +153,19 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool>(
     // delta lobe). The camera ray counts as a delta: emission it sees is always added.
     let mut prev_pdf = f32::INFINITY;
     let mut depth = 0u32;
+    // Absorption coefficient of the medium the ray travels in (zero: vacuum).
+    let mut sigma = Vec3::ZERO;
+    // Product of eta'^2 over the transmissions so far: undoes their radiance scaling for
+    // Russian roulette (pbrt-v4's `etaScale`).
+    let mut eta_scale = 1.0f32;
     loop {
         counters.rays += 1;
-        let Some(hit) = scene.accel.closest(origin, dir, f32::INFINITY) else {
+        let hit = scene.accel.closest(origin, dir, f32::INFINITY);
+        if DIELECTRIC && sigma != Vec3::ZERO {
+            // A ray inside an open mesh that escapes has crossed an infinite medium.
+            beta *= transmittance(sigma, hit.map_or(f32::INFINITY, |h| h.t));
+        }
+        let Some(hit) = hit else {
             if has_env && let Some(env) = &scene.environment {
                 let le = env.radiance(dir);
                 let w = if !use_nee {
@@ -154,7 +206,7 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool>(
             }
         }
         let bsdf = scene.bsdfs.get(material).copied().unwrap_or(Bsdf::Black);
-        if !PLASTIC && matches!(bsdf, Bsdf::Plastic { .. }) {
+        if (!PLASTIC && matches!(bsdf, Bsdf::Plastic { .. })) || (!DIELECTRIC && bsdf.transmits()) {
             break;
         }
         if depth >= scene.max_depth || !bsdf.reflects() {
@@ -163,8 +215,10 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool>(
         let roulette = scene.roulette_depth > 0 && depth + 1 >= scene.roulette_depth;
         let s = BounceSamples::draw(stream, draws, roulette);
 
-        // Shading frame on the side the ray arrives from (two-sided materials).
-        let ng = if ng.dot(dir) > 0.0 { -ng } else { ng };
+        // Shading frame: on the side the ray arrives from for two-sided materials, around the
+        // outward normal for a dielectric with an inside (`wo.z < 0` from inside).
+        let inside = DIELECTRIC && bsdf.has_inside();
+        let ng = if !inside && ng.dot(dir) > 0.0 { -ng } else { ng };
         let ns = match scene.shading_normals.get(tri.normals as usize) {
             Some(n) if tri.normals != NO_INDEX => {
                 let n = n.interpolate(hit.b1, hit.b2);
@@ -174,10 +228,12 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool>(
         };
         let frame = shading_frame(ns);
         let wo = frame.to_local(-dir);
-        if wo.z <= 0.0 {
+        // The shading normal must agree with the geometric side the ray arrives from.
+        if !(wo.z * -ng.dot(dir) > 0.0) {
             break;
         }
-        let p_out = offset_ray_origin(p, ng);
+        let p_out = offset_ray_origin(p, if wo.z > 0.0 { ng } else { -ng });
+        let transmits = DIELECTRIC && bsdf.transmits();
 
         // Next-event estimation.
         if use_nee && !bsdf.is_delta() {
@@ -189,22 +245,29 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool>(
                     && let Some(light_tri) = scene.triangles.get(emitter.triangle as usize)
                 {
                     let pl = sample_triangle(light_tri.vertices(), s.light);
-                    let to_light = pl - p_out;
+                    // Offset toward the light's side of the surface.
+                    let origin = if transmits { offset_ray_origin(p, ng * (pl - p).dot(ng).signum()) } else { p_out };
+                    let to_light = pl - origin;
                     let dist2 = to_light.length_squared();
                     let dist = dist2.sqrt();
                     let wi_world = to_light / dist;
                     let cos_l = -light_tri.geometric_normal().dot(wi_world);
                     let wi = frame.to_local(wi_world);
-                    if cos_l > 0.0 && wi.z > 0.0 && wi_world.dot(ng) > 0.0 && dist > 0.0 {
+                    if cos_l > 0.0 && sides_agree(wi, wi_world, ng, transmits) && dist > 0.0 {
                         let pdf_light = p_area * scene.lights.pdf_area(e) * dist2 / cos_l;
                         let f = bsdf.eval(wo, wi);
                         if f != Vec3::ZERO && pdf_light > 0.0 && pdf_light.is_finite() {
                             counters.shadow_rays += 1;
-                            if scene.accel.unoccluded(p_out, wi_world, dist * (1.0 - 1e-3)) {
+                            if scene.accel.unoccluded(origin, wi_world, dist * (1.0 - 1e-3)) {
                                 let le = scene.emission.get(light_tri.material as usize).copied().unwrap_or(Vec3::ZERO);
                                 let w =
                                     if use_mis { power_heuristic(1.0, pdf_light, 1.0, bsdf.pdf(wo, wi)) } else { 1.0 };
-                                radiance += beta * f * le * (w / pdf_light);
+                                let tr = if DIELECTRIC {
+                                    transmittance(segment_medium(&bsdf, sigma, wi.z), dist)
+                                } else {
+                                    Vec3::ONE
+                                };
+                                radiance += beta * f * tr * le * (w / pdf_light);
                             }
                         }
                     }
@@ -216,11 +279,14 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool>(
                 let (wi_world, pdf) = env.sample(s.light);
                 let pdf_light = p_env * pdf;
                 let wi = frame.to_local(wi_world);
-                if wi.z > 0.0 && wi_world.dot(ng) > 0.0 && pdf_light > 0.0 && pdf_light.is_finite() {
+                if sides_agree(wi, wi_world, ng, transmits) && pdf_light > 0.0 && pdf_light.is_finite() {
                     let f = bsdf.eval(wo, wi);
                     if f != Vec3::ZERO {
                         counters.shadow_rays += 1;
-                        if scene.accel.unoccluded(p_out, wi_world, f32::INFINITY) {
+                        let origin = if transmits { offset_ray_origin(p, ng * wi.z.signum()) } else { p_out };
+                        // Toward the environment through an absorbing medium: nothing arrives.
+                        let absorbed = DIELECTRIC && segment_medium(&bsdf, sigma, wi.z) != Vec3::ZERO;
+                        if !absorbed && scene.accel.unoccluded(origin, wi_world, f32::INFINITY) {
                             let w = if use_mis { power_heuristic(1.0, pdf_light, 1.0, bsdf.pdf(wo, wi)) } else { 1.0 };
                             radiance += beta * f * env.radiance(wi_world) * (w / pdf_light);
                         }
@@ -232,18 +298,25 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool>(
         // BSDF sampling.
         let Some(bs) = bsdf.sample(wo, s.lobe, s.bsdf) else { break };
         let wi_world = frame.to_world(bs.wi);
-        if wi_world.dot(ng) <= 0.0 {
-            break; // the shading normal sent the ray into the surface
+        if !sides_agree(bs.wi, wi_world, ng, transmits) {
+            break; // the shading normal sent the ray to the other side
         }
         beta *= bs.weight;
         prev_pdf = bs.mis_pdf();
-        origin = p_out;
+        if transmits {
+            origin = offset_ray_origin(p, ng * bs.wi.z.signum());
+            sigma = segment_medium(&bsdf, sigma, bs.wi.z);
+            eta_scale *= bsdf.radiance_scale_inverse(wo, bs.wi);
+        } else {
+            origin = p_out;
+        }
         dir = wi_world;
         depth += 1;
 
-        // Russian roulette (pbrt-v4): continue with probability max(beta) when it drops below 1.
+        // Russian roulette (pbrt-v4): continue with probability max(beta eta_scale) when it drops
+        // below 1.
         if scene.roulette_depth > 0 && depth >= scene.roulette_depth {
-            let m = beta.max_element();
+            let m = (beta * eta_scale).max_element();
             if m < 1.0 {
                 let q = (1.0 - m).max(0.0);
                 if s.roulette < q {

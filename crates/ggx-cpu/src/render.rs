@@ -10,7 +10,7 @@ use crate::integrator::{Counters, trace};
 use crate::scene_data::SceneData;
 use ggx_core::{SampleStream, SequenceKind};
 use ggx_film::Film;
-use ggx_render::{RenderError, new_film, pass_spp};
+use ggx_render::{KernelVariant, RenderError, new_film, pass_spp};
 use ggx_scene::SceneFeatures;
 use glam::{Vec2, Vec3};
 use rayon::prelude::*;
@@ -33,7 +33,7 @@ pub struct Sampling {
 type TileFn = fn(&SceneData, Sampling, [u32; 4], (u32, u32), &AtomicBool, &AtomicU64) -> Option<Vec<Vec3>>;
 
 /// Renders samples `[s0, s1)` of every pixel of the tile `[x0, y0, x1, y1)`.
-fn render_tile<const AREA: bool, const ENV: bool, const PLASTIC: bool>(
+fn render_tile<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELECTRIC: bool>(
     scene: &SceneData,
     sampling: Sampling,
     [x0, y0, x1, y1]: [u32; 4],
@@ -55,7 +55,7 @@ fn render_tile<const AREA: bool, const ENV: bool, const PLASTIC: bool>(
                 let mut stream = SampleStream::new(sampling.kind, sampling.seed, pixel, s);
                 let jitter = stream.next_2d();
                 let (origin, dir) = scene.camera.generate_ray(Vec2::new(x as f32, y as f32) + jitter);
-                sum += trace::<AREA, ENV, PLASTIC>(scene, origin, dir, &mut stream, &mut counters);
+                sum += trace::<AREA, ENV, PLASTIC, DIELECTRIC>(scene, origin, dir, &mut stream, &mut counters);
             }
             out.push(sum);
         }
@@ -64,22 +64,27 @@ fn render_tile<const AREA: bool, const ENV: bool, const PLASTIC: bool>(
     Some(out)
 }
 
-/// The kernel variant for a scene: only the features it uses, or everything when
-/// `specialize` is false.
+/// Instantiates `render_tile` for a variant: `$v` is the variant, `$($bits),*` every
+/// combination of its four flags (area, env, plastic, dielectric).
+macro_rules! tile_fns {
+    ($v:expr; $(($a:literal, $e:literal, $p:literal, $d:literal)),* $(,)?) => {
+        match ($v.area, $v.env, $v.plastic, $v.dielectric) {
+            $(($a, $e, $p, $d) => render_tile::<$a, $e, $p, $d> as TileFn,)*
+        }
+    };
+}
+
+/// The kernel variant for a scene ([`KernelVariant::for_scene`]): only the features it uses,
+/// or everything when `specialize` is false.
 pub fn select_kernel(features: &SceneFeatures, specialize: bool) -> (TileFn, &'static str) {
-    let area = !specialize || features.area_lights;
-    let env = !specialize || features.env_map || features.constant_env;
-    let plastic = !specialize || features.plastics;
-    match (area, env, plastic) {
-        (true, true, true) => (render_tile::<true, true, true>, "area+env+plastic"),
-        (true, true, false) => (render_tile::<true, true, false>, "area+env"),
-        (true, false, true) => (render_tile::<true, false, true>, "area+plastic"),
-        (true, false, false) => (render_tile::<true, false, false>, "area"),
-        (false, true, true) => (render_tile::<false, true, true>, "env+plastic"),
-        (false, true, false) => (render_tile::<false, true, false>, "env"),
-        (false, false, true) => (render_tile::<false, false, true>, "plastic"),
-        (false, false, false) => (render_tile::<false, false, false>, "none"),
-    }
+    let v = KernelVariant::for_scene(features, specialize);
+    let f = tile_fns!(v;
+        (false, false, false, false), (true, false, false, false), (false, true, false, false), (true, true, false, false),
+        (false, false, true, false), (true, false, true, false), (false, true, true, false), (true, true, true, false),
+        (false, false, false, true), (true, false, false, true), (false, true, false, true), (true, true, false, true),
+        (false, false, true, true), (true, false, true, true), (false, true, true, true), (true, true, true, true),
+    );
+    (f, v.name())
 }
 
 /// What one call of [`run`] produced.

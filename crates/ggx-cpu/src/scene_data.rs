@@ -31,17 +31,22 @@ pub struct SceneData {
     pub roulette_depth: u32,
     /// What the scene uses.
     pub features: SceneFeatures,
+    /// Some material reads the lobe sample ([`Bsdf::uses_lobe_sample`]): every bounce draws
+    /// it, whatever the kernel variant.
+    pub uses_lobe_sample: bool,
 }
 
 impl SceneData {
     /// Precomputes everything from a validated scene.
     pub fn new(scene: &Scene, accel: AccelKind) -> SceneData {
         let strategy = scene.integrator.bsdf_sampling;
+        let bsdfs: Vec<Bsdf> = scene.materials.iter().map(|m| Bsdf::new(m, strategy)).collect();
         SceneData {
+            uses_lobe_sample: bsdfs.iter().any(Bsdf::uses_lobe_sample),
             accel: Accel::build(&scene.mesh.triangles, accel),
             triangles: scene.mesh.triangles.clone(),
             shading_normals: scene.mesh.shading_normals.clone(),
-            bsdfs: scene.materials.iter().map(|m| Bsdf::new(m, strategy)).collect(),
+            bsdfs,
             emission: scene.materials.iter().map(|m| m.emission()).collect(),
             lights: scene.lights.clone(),
             environment: scene.environment.clone(),

@@ -84,13 +84,38 @@ fn white_furnace_renders_the_environment_radiance() {
 /// (single scattering loses energy at high roughness).
 #[test]
 fn ggx_furnace_never_gains_energy() {
-    let text = FURNACE
-        .replace("STRATEGY", "mis")
-        .replace("type = \"diffuse\"\nalbedo = [1, 1, 1]", "type = \"conductor\"\nalpha = 0.8\npreset = \"ideal\"");
-    let m = mean(&render(&scene_from(&text)).film.mean());
-    println!("rough ideal conductor in the furnace: {m}");
+    let conductor = |compensation: &str| {
+        FURNACE.replace("STRATEGY", "mis").replace(
+            "type = \"diffuse\"\nalbedo = [1, 1, 1]",
+            &format!("type = \"conductor\"\nalpha = 0.8\npreset = \"ideal\"\nenergy_compensation = {compensation}"),
+        )
+    };
+    let single = mean(&render(&scene_from(&conductor("false"))).film.mean());
+    println!("rough ideal conductor in the furnace, single scattering: {single}");
     // The sphere fills the frame; single-scattering GGX at alpha 0.8 keeps roughly half.
-    assert!(m.max_element() <= 0.7 * 1.005 && m.min_element() > 0.2, "{m}");
+    assert!(single.max_element() <= 0.7 * 1.005 && single.min_element() > 0.2, "{single}");
+    // Kulla & Conty's lobe restores what the single-scattering lobe loses.
+    let multiple = mean(&render(&scene_from(&conductor("true"))).film.mean());
+    println!("rough ideal conductor in the furnace, compensated: {multiple}");
+    assert!((multiple - Vec3::splat(0.7)).abs().max_element() < 0.007, "{multiple}");
+}
+
+/// A plastic with a white base: with compensation the base sees the coat's `1 - E` and the
+/// sphere vanishes; with two Fresnel transmissions it loses the light the coat reflects back.
+#[test]
+fn white_plastic_conserves_energy_only_with_compensation() {
+    let plastic = |alpha: f32, compensation: &str| {
+        let material =
+            format!("type = \"plastic\"\nalpha = {alpha}\nalbedo = [1, 1, 1]\nenergy_compensation = {compensation}");
+        let text = FURNACE.replace("STRATEGY", "mis").replace("type = \"diffuse\"\nalbedo = [1, 1, 1]", &material);
+        mean(&render(&scene_from(&text)).film.mean())
+    };
+    for alpha in [0.05, 0.3, 1.0] {
+        let (on, off) = (plastic(alpha, "true"), plastic(alpha, "false"));
+        println!("white plastic alpha {alpha}: compensated {on}, two Fresnel transmissions {off}");
+        assert!((on - Vec3::splat(0.7)).abs().max_element() < 0.007, "alpha {alpha}: {on}");
+        assert!(off.max_element() < 0.7 * 0.97, "alpha {alpha}: {off}");
+    }
 }
 
 const DISK: &str = r#"

@@ -1,9 +1,19 @@
 //! Scene materials as tangent-space BSDFs built on ggx-core. Every `eval` returns
 //! `f(wo, wi) |wi.z|`, every `sample` a weight `eval / pdf`, like `ggx_core::GgxConductor`.
+//! Camera paths carry radiance ([`TransportMode::Radiance`]).
+//!
+//! Sides: reflective materials are two-sided and shade in a frame turned toward `wo`
+//! (`wo.z > 0`, else nothing). A dielectric has an inside: its frame keeps the surface's
+//! outward normal, `wo.z < 0` means the ray arrives from inside, and `wi` may lie on
+//! either side ([`Bsdf::has_inside`]).
 
+use ggx_core::energy_dielectric::plastic_base_weight;
 use ggx_core::fresnel::fresnel_dielectric;
 use ggx_core::warp::{pdf_cosine_hemisphere, sample_cosine_hemisphere};
-use ggx_core::{BsdfSample, Fresnel, GgxConductor, Sampling};
+use ggx_core::{
+    BsdfSample, Fresnel, GgxConductor, GgxConductorMs, GgxDielectric, GgxDielectricMs, Sampling, ThinDielectric,
+    TransportMode,
+};
 use ggx_scene::{BsdfStrategy, ConductorFresnel, Material, luminance};
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
@@ -16,10 +26,10 @@ pub enum Bsdf {
         /// Reflectance.
         albedo: Vec3,
     },
-    /// GGX conductor.
+    /// GGX conductor, with the Kulla & Conty lobe when `brdf.compensation != 0`.
     Conductor {
         /// The BRDF.
-        brdf: GgxConductor,
+        brdf: GgxConductorMs,
         /// The technique `sample` uses.
         sampling: Sampling,
     },
@@ -33,6 +43,26 @@ pub enum Bsdf {
         albedo: Vec3,
         /// The technique used for the coat lobe.
         sampling: Sampling,
+        /// Couple the base through the coat's `1 - E` (energy compensation).
+        compensate: bool,
+    },
+    /// GGX rough (or smooth) dielectric interface with an inside.
+    Dielectric {
+        /// The BSDF, energy-compensated when `bsdf.compensation != 0`.
+        bsdf: GgxDielectricMs,
+        /// Tint of every transmission.
+        transmittance: Vec3,
+        /// Beer-Lambert absorption coefficient of the inside.
+        absorption: Vec3,
+        /// The technique `sample` uses (cosine and uniform fall back to VNDF).
+        sampling: Sampling,
+    },
+    /// Smooth thin sheet: no inside, transmission straight through.
+    Thin {
+        /// The sheet.
+        sheet: ThinDielectric,
+        /// Tint of the transmission.
+        transmittance: Vec3,
     },
     /// Emitters and anything else that reflects nothing.
     Black,
@@ -49,26 +79,48 @@ pub fn sampling_for(strategy: BsdfStrategy) -> Sampling {
     }
 }
 
+/// `v` where `transmitted`, else 1: the tint of a dielectric's transmission.
+#[inline(always)]
+fn tint(transmitted: bool, transmittance: Vec3) -> Vec3 {
+    if transmitted { transmittance } else { Vec3::ONE }
+}
+
 impl Bsdf {
     /// Precomputes the BSDF of a scene material.
     pub fn new(material: &Material, strategy: BsdfStrategy) -> Bsdf {
         let sampling = sampling_for(strategy);
         match *material {
             Material::Diffuse { albedo } => Bsdf::Diffuse { albedo },
-            Material::Conductor { alpha_x, alpha_y, fresnel } => {
+            Material::Conductor { alpha_x, alpha_y, fresnel, compensate } => {
                 let fresnel = match fresnel {
                     ConductorFresnel::Schlick { f0 } => Fresnel::Schlick { f0 },
                     ConductorFresnel::Complex { eta, k } => Fresnel::Conductor { eta, k },
                     ConductorFresnel::One => Fresnel::One,
                 };
-                Bsdf::Conductor { brdf: GgxConductor::new(alpha_x, alpha_y, fresnel), sampling }
+                let mut brdf = GgxConductorMs::new(GgxConductor::new(alpha_x, alpha_y, fresnel));
+                brdf.compensation = u32::from(compensate);
+                Bsdf::Conductor { brdf, sampling }
             }
-            Material::Plastic { alpha, ior, albedo } => Bsdf::Plastic {
+            Material::Plastic { alpha, ior, albedo, compensate } => Bsdf::Plastic {
                 coat: GgxConductor::isotropic(alpha, Fresnel::Dielectric { eta: ior }),
                 ior,
                 albedo,
                 sampling,
+                compensate,
             },
+            Material::Dielectric { thin: true, ior, transmittance, .. } => {
+                Bsdf::Thin { sheet: ThinDielectric::new(ior), transmittance }
+            }
+            Material::Dielectric { alpha_x, alpha_y, ior, transmittance, absorption, compensate, .. } => {
+                let mut bsdf = GgxDielectricMs::new(GgxDielectric::new(alpha_x, alpha_y, ior));
+                bsdf.compensation = u32::from(compensate);
+                // The hemisphere-only techniques cannot reach the other side: VNDF instead.
+                let sampling = match sampling {
+                    Sampling::Cosine | Sampling::Uniform => Sampling::Vndf,
+                    s => s,
+                };
+                Bsdf::Dielectric { bsdf, transmittance, absorption, sampling }
+            }
             Material::Emissive { .. } => Bsdf::Black,
         }
     }
@@ -80,47 +132,80 @@ impl Bsdf {
         if base <= 0.0 { 1.0 } else { (fo / (fo + base)).clamp(0.05, 0.95) }
     }
 
-    /// `f(wo, wi) |wi.z|`. Plastic: `f = f_coat + (1 - F(wo.z)) (1 - F(wi.z)) albedo / pi`, the
-    /// coat's GGX reflection plus a base seen through two Fresnel transmissions
-    /// (Ashikhmin & Shirley 2000's coupling without internal reflections, so it never
-    /// creates energy).
+    /// The plastic base's coupling through the coat: with compensation
+    /// `(1 - E_R(mu_o)) (1 - E_R(mu_i)) / (1 - E_R_avg)` (ggx-core's `plastic_base_weight`,
+    /// white furnace exactly 1), else `(1 - F(mu_o)) (1 - F(mu_i))` (Ashikhmin & Shirley 2000's
+    /// two Fresnel transmissions without internal reflections, which loses energy).
+    #[inline(always)]
+    fn base_weight(coat: &GgxConductor, ior: f32, compensate: bool, mu_o: f32, mu_i: f32) -> f32 {
+        if compensate {
+            plastic_base_weight(mu_o, mu_i, coat.distribution.alpha_x, ior)
+        } else {
+            (1.0 - fresnel_dielectric(mu_o, ior)) * (1.0 - fresnel_dielectric(mu_i, ior))
+        }
+    }
+
+    /// `f(wo, wi) |wi.z|`. Plastic: `f = f_coat + w(wo, wi) albedo / pi`, the coat's GGX
+    /// reflection plus a base weighted by [`Self::base_weight`]. Dielectric: both sides,
+    /// transmission tinted by `transmittance`.
     #[inline]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        if let Bsdf::Dielectric { bsdf, transmittance, .. } = self {
+            return bsdf.eval(wo, wi, TransportMode::Radiance) * tint(wo.z * wi.z < 0.0, *transmittance);
+        }
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return Vec3::ZERO;
         }
         match *self {
             Bsdf::Diffuse { albedo } => albedo * (wi.z * FRAC_1_PI),
             Bsdf::Conductor { brdf, .. } => brdf.eval(wo, wi),
-            Bsdf::Plastic { coat, ior, albedo, .. } => {
-                let t = (1.0 - fresnel_dielectric(wo.z, ior)) * (1.0 - fresnel_dielectric(wi.z, ior));
+            Bsdf::Plastic { coat, ior, albedo, compensate, .. } => {
+                let t = Self::base_weight(&coat, ior, compensate, wo.z, wi.z);
                 coat.eval(wo, wi) + albedo * (t * wi.z * FRAC_1_PI)
             }
-            Bsdf::Black => Vec3::ZERO,
+            Bsdf::Dielectric { .. } | Bsdf::Thin { .. } | Bsdf::Black => Vec3::ZERO,
         }
     }
 
     /// Solid-angle density of [`Bsdf::sample`] returning `wi` (0 for delta lobes).
     #[inline]
     pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        if let Bsdf::Dielectric { bsdf, sampling, .. } = self {
+            return bsdf.pdf(wo, wi, *sampling, TransportMode::Radiance);
+        }
         if wo.z <= 0.0 || wi.z <= 0.0 {
             return 0.0;
         }
         match *self {
             Bsdf::Diffuse { .. } => pdf_cosine_hemisphere(wi),
             Bsdf::Conductor { brdf, sampling } => brdf.pdf(wo, wi, sampling),
-            Bsdf::Plastic { coat, ior, albedo, sampling } => {
+            Bsdf::Plastic { coat, ior, albedo, sampling, .. } => {
                 let p = Self::coat_probability(fresnel_dielectric(wo.z, ior), albedo);
                 p * coat.pdf(wo, wi, sampling) + (1.0 - p) * pdf_cosine_hemisphere(wi)
             }
-            Bsdf::Black => 0.0,
+            Bsdf::Dielectric { .. } | Bsdf::Thin { .. } | Bsdf::Black => 0.0,
         }
     }
 
-    /// Draws `wi`: `u_lobe` picks the lobe of a plastic, `u` the direction. The plastic is a
-    /// one-sample mixture whose weight is `eval / pdf` of the whole mixture.
+    /// Draws `wi`: `u_lobe` picks the lobe (a plastic's coat or base, a compensated
+    /// conductor's single- or multiple-scattering lobe, a dielectric's reflection or
+    /// transmission), `u` the direction. The plastic is a one-sample mixture whose weight is
+    /// `eval / pdf` of the whole mixture.
     #[inline]
     pub fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
+        match *self {
+            Bsdf::Dielectric { bsdf, transmittance, sampling, .. } => {
+                let s = bsdf.sample(wo, u, u_lobe, sampling, TransportMode::Radiance)?;
+                let weight = s.weight * tint(wo.z * s.wi.z < 0.0, transmittance);
+                return Some(BsdfSample { weight, ..s });
+            }
+            Bsdf::Thin { sheet, transmittance } => {
+                let s = sheet.sample(wo, u_lobe)?;
+                let weight = s.weight * tint(wo.z * s.wi.z < 0.0, transmittance);
+                return Some(BsdfSample { weight, ..s });
+            }
+            _ => {}
+        }
         if wo.z <= 0.0 {
             return None;
         }
@@ -129,8 +214,8 @@ impl Bsdf {
                 let wi = sample_cosine_hemisphere(u);
                 Some(BsdfSample { wi, weight: albedo, pdf: pdf_cosine_hemisphere(wi), is_delta: false })
             }
-            Bsdf::Conductor { brdf, sampling } => brdf.sample(wo, u, sampling),
-            Bsdf::Plastic { coat, ior, albedo, sampling } => {
+            Bsdf::Conductor { brdf, sampling } => brdf.sample(wo, u, u_lobe, sampling),
+            Bsdf::Plastic { coat, ior, albedo, sampling, .. } => {
                 let p = Self::coat_probability(fresnel_dielectric(wo.z, ior), albedo);
                 let wi = if u_lobe < p {
                     let s = coat.sample(wo, u, sampling)?;
@@ -147,17 +232,76 @@ impl Bsdf {
                 }
                 Some(BsdfSample { wi, weight: self.eval(wo, wi) / pdf, pdf, is_delta: false })
             }
-            Bsdf::Black => None,
+            Bsdf::Dielectric { .. } | Bsdf::Thin { .. } | Bsdf::Black => None,
         }
     }
 
-    /// True when every lobe is a delta (a mirror conductor): light sampling cannot help.
+    /// True when every lobe is a delta (a mirror conductor, a smooth dielectric, a thin
+    /// sheet): light sampling cannot help.
     pub fn is_delta(&self) -> bool {
-        matches!(self, Bsdf::Conductor { brdf, .. } if brdf.is_delta())
+        match self {
+            Bsdf::Conductor { brdf, .. } => brdf.conductor.is_delta(),
+            Bsdf::Dielectric { bsdf, .. } => bsdf.dielectric.is_delta(),
+            Bsdf::Thin { .. } => true,
+            _ => false,
+        }
     }
 
-    /// True for materials that reflect light at all.
+    /// True for materials that reflect or transmit light at all.
     pub fn reflects(&self) -> bool {
         !matches!(self, Bsdf::Black)
+    }
+
+    /// True for a dielectric with an inside: shade it in the frame of the outward normal
+    /// (`wo.z < 0` from inside) and let `wi` cross to the other side.
+    pub fn has_inside(&self) -> bool {
+        matches!(self, Bsdf::Dielectric { .. })
+    }
+
+    /// True when `wi` may lie on the other side of the surface from `wo` (dielectrics and
+    /// thin sheets).
+    pub fn transmits(&self) -> bool {
+        matches!(self, Bsdf::Dielectric { .. } | Bsdf::Thin { .. })
+    }
+
+    /// `eta'^2` for a transmission through a dielectric with an inside (`wo.z * wi.z < 0`,
+    /// `eta' = eta` from outside, `1 / eta` from inside): the inverse of the `1 / eta'^2`
+    /// radiance scaling in its weight (Veach 1997 sec. 5.2), for Russian roulette. 1 otherwise.
+    pub fn radiance_scale_inverse(&self, wo: Vec3, wi: Vec3) -> f32 {
+        match self {
+            Bsdf::Dielectric { bsdf, .. } if wo.z * wi.z < 0.0 => {
+                let eta = bsdf.dielectric.eta();
+                if wo.z > 0.0 { eta * eta } else { 1.0 / (eta * eta) }
+            }
+            _ => 1.0,
+        }
+    }
+
+    /// The absorption coefficient of the inside (zero outside dielectrics).
+    pub fn absorption(&self) -> Vec3 {
+        match self {
+            Bsdf::Dielectric { absorption, .. } => *absorption,
+            _ => Vec3::ZERO,
+        }
+    }
+
+    /// True when energy compensation changes this BSDF (a compensated rough conductor or
+    /// dielectric, a compensated plastic): it reads ggx-core's energy tables.
+    pub fn is_compensated(&self) -> bool {
+        match self {
+            Bsdf::Conductor { brdf, .. } => brdf.is_compensated(),
+            Bsdf::Plastic { compensate, .. } => *compensate,
+            Bsdf::Dielectric { bsdf, .. } => bsdf.is_compensated(),
+            _ => false,
+        }
+    }
+
+    /// True when `sample` reads `u_lobe`: plastics, compensated rough conductors, dielectrics.
+    pub fn uses_lobe_sample(&self) -> bool {
+        match self {
+            Bsdf::Conductor { brdf, .. } => brdf.is_compensated(),
+            Bsdf::Plastic { .. } | Bsdf::Dielectric { .. } | Bsdf::Thin { .. } => true,
+            Bsdf::Diffuse { .. } | Bsdf::Black => false,
+        }
     }
 }

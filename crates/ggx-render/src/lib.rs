@@ -8,13 +8,16 @@
 //!   ([`time_budget`]), which make the CPU and GPU backends trace the same samples;
 //! * the scene's materials as ggx-core BSDFs ([`Bsdf`]), shared by the CPU kernels and the
 //!   GPU upload;
+//! * [`KernelVariant`]: the features a specialized kernel keeps, named alike on both backends;
 //! * [`new_film`]: the image buffer, allocated fallibly (an error, never an abort).
 #![deny(missing_docs)]
 
 mod bsdf;
 mod interface;
+mod kernel;
 mod schedule;
 
 pub use bsdf::{Bsdf, sampling_for};
 pub use interface::{Progress, RenderControl, RenderError, RenderOptions, RenderResult, new_film};
+pub use kernel::KernelVariant;
 pub use schedule::{MAX_PASS_SPP, pass_spp, stream_seed, time_budget};

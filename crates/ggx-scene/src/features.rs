@@ -23,11 +23,13 @@ pub struct SceneFeatures {
     pub shading_normals: bool,
     /// There are shapes and every one is emissive: nothing reflects light.
     pub emissive_only: bool,
+    /// Some shape uses a GGX dielectric (paths can be transmitted).
+    pub dielectrics: bool,
 }
 
 impl SceneFeatures {
     /// Names and values in bit order (bit 0 first).
-    pub fn flags(&self) -> [(&'static str, bool); 9] {
+    pub fn flags(&self) -> [(&'static str, bool); 10] {
         [
             ("area_lights", self.area_lights),
             ("env_map", self.env_map),
@@ -38,12 +40,14 @@ impl SceneFeatures {
             ("anisotropic", self.anisotropic),
             ("shading_normals", self.shading_normals),
             ("emissive_only", self.emissive_only),
+            ("dielectrics", self.dielectrics),
         ]
     }
 
     /// Bit `i` set when flag `i` of [`Self::flags`] is: area_lights = 1, env_map = 2,
     /// constant_env = 4, diffuse = 8, conductors = 16, plastics = 32, anisotropic = 64,
-    /// shading_normals = 128, emissive_only = 256. For GPU pipeline override constants.
+    /// shading_normals = 128, emissive_only = 256, dielectrics = 512. For GPU pipeline override
+    /// constants.
     pub fn to_bits(&self) -> u32 {
         self.flags().iter().enumerate().fold(0, |bits, (i, (_, on))| bits | (u32::from(*on) << i))
     }
@@ -61,6 +65,7 @@ impl SceneFeatures {
             anisotropic: b(6),
             shading_normals: b(7),
             emissive_only: b(8),
+            dielectrics: b(9),
         }
     }
 
@@ -83,7 +88,7 @@ mod tests {
 
     #[test]
     fn bits_round_trip() {
-        for bits in [0, 1, 0b1_0101_0101, 0x1ff] {
+        for bits in [0, 1, 0b1_0101_0101, 0x1ff, 0x3ff] {
             assert_eq!(SceneFeatures::from_bits(bits).to_bits(), bits);
         }
         let f = SceneFeatures { area_lights: true, conductors: true, ..Default::default() };

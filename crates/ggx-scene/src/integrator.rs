@@ -66,6 +66,9 @@ pub struct IntegratorSettings {
     pub bsdf_sampling: BsdfStrategy,
     /// How lights are sampled.
     pub light_strategy: LightStrategy,
+    /// Scene-wide energy compensation: `Some` overrides every material's
+    /// `energy_compensation`, `None` keeps each material's own (default on).
+    pub energy_compensation: Option<bool>,
 }
 
 impl Default for IntegratorSettings {
@@ -79,6 +82,7 @@ impl Default for IntegratorSettings {
             sampler: SamplerKind::default(),
             bsdf_sampling: BsdfStrategy::default(),
             light_strategy: LightStrategy::default(),
+            energy_compensation: None,
         }
     }
 }
@@ -115,6 +119,7 @@ impl IntegratorSettings {
             sampler: raw.sampler.unwrap_or(d.sampler),
             bsdf_sampling: raw.bsdf_sampling.unwrap_or(d.bsdf_sampling),
             light_strategy: raw.light_strategy.unwrap_or(d.light_strategy),
+            energy_compensation: raw.energy_compensation,
         })
     }
 }

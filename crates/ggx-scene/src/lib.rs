@@ -5,7 +5,7 @@
 //! into world-space triangles ([`TriangleMesh`]), area lights with a power distribution for
 //! next-event estimation ([`AreaLights`]) and an optional importance-sampled
 //! [`Environment`]. Flat tables ([`Triangle`], [`ShadingNormals`], [`Emitter`],
-//! [`GpuMaterial`], [`Distribution2D`]) are `bytemuck::Pod` or plain `Vec<f32>` so the GPU
+//! [`Distribution2D`]) are `bytemuck::Pod` or plain `Vec<f32>` so the GPU
 //! renderer can upload them as they are.
 //!
 //! Errors never panic: every problem with the file becomes a [`SceneError`] that names the
@@ -50,7 +50,7 @@ pub use geometry::{Geometry, cube, disk, icosphere, parse_obj, parse_obj_with_li
 pub use integrator::{BsdfStrategy, IntegratorSettings, LightStrategy, MAX_DEPTH, MAX_SEED, MAX_SPP, SamplerKind};
 pub use lights::{AreaLight, AreaLights, Emitter};
 pub use limits::{Limit, LimitError, Limits, ReadError, format_bytes, read_regular_file, read_regular_file_or};
-pub use material::{ConductorFresnel, ConductorPreset, GpuMaterial, LUMINANCE_WEIGHTS, Material, luminance};
+pub use material::{ConductorFresnel, LUMINANCE_WEIGHTS, Material, MaterialPreset, luminance};
 pub use memory::{
     BYTES_PER_TEXEL, BYTES_PER_TRIANGLE, FILM_BYTES_PER_PIXEL, MemoryEstimate, estimate_memory, film_bytes, map_bytes,
     triangle_bytes,

@@ -1,7 +1,5 @@
-//! Materials: diffuse, GGX conductor, GGX-coated plastic and emitter, plus a flat
-//! GPU-uploadable form.
+//! Materials: diffuse, GGX conductor, GGX-coated plastic, GGX dielectric and emitter.
 
-use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 use serde::Deserialize;
 
@@ -24,34 +22,58 @@ pub enum ConductorFresnel {
     One,
 }
 
-/// Named conductor presets (`preset = "gold"`).
+/// Named material presets (`preset = "gold"`, `preset = "glass"`): conductors by their
+/// complex index of refraction, dielectrics by their index of refraction.
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq, Hash)]
 #[serde(rename_all = "kebab-case")]
-pub enum ConductorPreset {
-    /// Gold (Au).
+pub enum MaterialPreset {
+    /// Gold (Au), a conductor.
     Gold,
-    /// Silver (Ag).
+    /// Silver (Ag), a conductor.
     Silver,
-    /// Copper (Cu).
+    /// Copper (Cu), a conductor.
     Copper,
-    /// Aluminium (Al).
+    /// Aluminium (Al), a conductor.
     Aluminium,
-    /// `F = 1` ([`ConductorFresnel::One`]).
+    /// `F = 1` ([`ConductorFresnel::One`]), a conductor.
     Ideal,
+    /// Crown glass, dielectric, ior 1.5.
+    Glass,
+    /// Water, dielectric, ior 1.33.
+    Water,
+    /// Diamond, dielectric, ior 2.42.
+    Diamond,
 }
 
-impl ConductorPreset {
-    /// The preset's Fresnel term. The complex indices are RGB values (at about 650, 550 and
-    /// 450 nm) of the measured spectral data shipped with pbrt-v3 / Mitsuba
-    /// (Au, Ag, Cu, Al from Palik's Handbook of Optical Constants).
-    pub fn fresnel(self) -> ConductorFresnel {
-        let c = |eta: [f32; 3], k: [f32; 3]| ConductorFresnel::Complex { eta: eta.into(), k: k.into() };
+impl MaterialPreset {
+    /// The names of the conductor presets, for error messages.
+    pub const CONDUCTORS: &'static str = "gold, silver, copper, aluminium, ideal";
+    /// The names of the dielectric presets, for error messages.
+    pub const DIELECTRICS: &'static str = "glass (1.5), water (1.33), diamond (2.42)";
+
+    /// The Fresnel term of a conductor preset (`None` for a dielectric one). The complex
+    /// indices are RGB values (at about 650, 550 and 450 nm) of the measured spectral data
+    /// shipped with pbrt-v3 / Mitsuba (Au, Ag, Cu, Al from Palik's Handbook of Optical Constants).
+    pub fn conductor(self) -> Option<ConductorFresnel> {
+        let c = |eta: [f32; 3], k: [f32; 3]| Some(ConductorFresnel::Complex { eta: eta.into(), k: k.into() });
         match self {
             Self::Gold => c([0.143, 0.374, 1.442], [3.983, 2.385, 1.603]),
             Self::Silver => c([0.155, 0.117, 0.138], [4.828, 3.122, 2.147]),
             Self::Copper => c([0.200, 0.924, 1.102], [3.912, 2.452, 2.142]),
             Self::Aluminium => c([1.657, 0.880, 0.521], [9.224, 6.270, 4.837]),
-            Self::Ideal => ConductorFresnel::One,
+            Self::Ideal => Some(ConductorFresnel::One),
+            Self::Glass | Self::Water | Self::Diamond => None,
+        }
+    }
+
+    /// The index of refraction of a dielectric preset at about 589 nm (`None` for a
+    /// conductor): glass 1.5 (crown glass), water 1.33, diamond 2.42.
+    pub fn ior(self) -> Option<f32> {
+        match self {
+            Self::Glass => Some(1.5),
+            Self::Water => Some(1.33),
+            Self::Diamond => Some(2.42),
+            _ => None,
         }
     }
 }
@@ -74,6 +96,8 @@ pub enum Material {
         alpha_y: f32,
         /// Fresnel reflectance.
         fresnel: ConductorFresnel,
+        /// Add the Kulla & Conty 2017 multiple-scattering lobe (`energy_compensation`).
+        compensate: bool,
     },
     /// GGX dielectric coat (index `ior`) over a Lambertian base of reflectance `albedo`.
     Plastic {
@@ -83,6 +107,27 @@ pub enum Material {
         ior: f32,
         /// Reflectance of the diffuse base, in [0, 1].
         albedo: Vec3,
+        /// Couple the base through the coat's `1 - E` albedo (`energy_compensation`) rather than
+        /// through two Fresnel transmissions.
+        compensate: bool,
+    },
+    /// GGX rough dielectric interface (Walter et al. 2007): reflection and refraction between
+    /// the outside (the side the surface normal points to, index 1) and the inside (`ior`).
+    Dielectric {
+        /// GGX alpha along the tangent, in [0, 1] (below `ggx_core::DELTA_ALPHA`: smooth).
+        alpha_x: f32,
+        /// GGX alpha along the bitangent, in [0, 1].
+        alpha_y: f32,
+        /// Index of refraction of the inside relative to the outside, in `[1/3, 3]`, not 1.
+        ior: f32,
+        /// Tint applied to every transmission through the surface, in [0, 1].
+        transmittance: Vec3,
+        /// Beer-Lambert absorption coefficient of the inside, per scene unit, >= 0.
+        absorption: Vec3,
+        /// A thin sheet: smooth, no interior, light passes straight through.
+        thin: bool,
+        /// Scale the single-scattering lobe to conserve energy (`energy_compensation`).
+        compensate: bool,
     },
     /// Area-light emitter: radiates `radiance` from its front face, reflects nothing.
     Emissive {
@@ -100,76 +145,24 @@ impl Material {
         }
     }
 
-    /// `true` for anisotropic conductors.
+    /// `true` for anisotropic conductors and dielectrics.
     pub fn is_anisotropic(&self) -> bool {
-        matches!(self, Self::Conductor { alpha_x, alpha_y, .. } if alpha_x != alpha_y)
-    }
-
-    /// The flat GPU form.
-    pub fn to_gpu(&self) -> GpuMaterial {
-        let v4 = |v: Vec3, w: f32| [v.x, v.y, v.z, w];
-        let zero = [0.0; 4];
-        match *self {
-            Self::Diffuse { albedo } => GpuMaterial::new(GpuMaterial::DIFFUSE, 0, [0.0; 2], v4(albedo, 0.0), zero),
-            Self::Conductor { alpha_x, alpha_y, fresnel } => {
-                let (kind, a, b) = match fresnel {
-                    ConductorFresnel::Schlick { f0 } => (GpuMaterial::FRESNEL_SCHLICK, v4(f0, 0.0), zero),
-                    ConductorFresnel::Complex { eta, k } => (GpuMaterial::FRESNEL_COMPLEX, v4(eta, 0.0), v4(k, 0.0)),
-                    ConductorFresnel::One => (GpuMaterial::FRESNEL_ONE, [1.0; 4], zero),
-                };
-                GpuMaterial::new(GpuMaterial::CONDUCTOR, kind, [alpha_x, alpha_y], a, b)
-            }
-            Self::Plastic { alpha, ior, albedo } => {
-                GpuMaterial::new(GpuMaterial::PLASTIC, 0, [alpha, alpha], v4(albedo, ior), zero)
-            }
-            Self::Emissive { radiance } => {
-                GpuMaterial::new(GpuMaterial::EMISSIVE, 0, [0.0; 2], v4(radiance, 0.0), zero)
-            }
+        match self {
+            Self::Conductor { alpha_x, alpha_y, .. } | Self::Dielectric { alpha_x, alpha_y, .. } => alpha_x != alpha_y,
+            _ => false,
         }
     }
-}
 
-/// A material as one 48-byte, std430-compatible record.
-///
-/// | `kind` | `color` (rgb, w) | `extra` |
-/// |---|---|---|
-/// | `DIFFUSE` | albedo | - |
-/// | `CONDUCTOR` | f0 (Schlick), eta (complex), 1 (one) | k (complex) |
-/// | `PLASTIC` | albedo, w = ior | - |
-/// | `EMISSIVE` | radiance | - |
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
-pub struct GpuMaterial {
-    /// One of the `DIFFUSE`, `CONDUCTOR`, `PLASTIC`, `EMISSIVE` constants.
-    pub kind: u32,
-    /// For conductors one of the `FRESNEL_*` constants, else 0.
-    pub fresnel: u32,
-    /// GGX `[alpha_x, alpha_y]` (equal for plastics, zero for others).
-    pub alpha: [f32; 2],
-    /// Main colour, see the table.
-    pub color: [f32; 4],
-    /// Second parameter, see the table.
-    pub extra: [f32; 4],
-}
-
-impl GpuMaterial {
-    /// [`Material::Diffuse`].
-    pub const DIFFUSE: u32 = 0;
-    /// [`Material::Conductor`].
-    pub const CONDUCTOR: u32 = 1;
-    /// [`Material::Plastic`].
-    pub const PLASTIC: u32 = 2;
-    /// [`Material::Emissive`].
-    pub const EMISSIVE: u32 = 3;
-    /// [`ConductorFresnel::Schlick`].
-    pub const FRESNEL_SCHLICK: u32 = 0;
-    /// [`ConductorFresnel::Complex`].
-    pub const FRESNEL_COMPLEX: u32 = 1;
-    /// [`ConductorFresnel::One`].
-    pub const FRESNEL_ONE: u32 = 2;
-
-    const fn new(kind: u32, fresnel: u32, alpha: [f32; 2], color: [f32; 4], extra: [f32; 4]) -> Self {
-        Self { kind, fresnel, alpha, color, extra }
+    /// The material with its energy-compensation flag set to `on` (no change for materials
+    /// without one): the scene-wide `integrator.energy_compensation` override.
+    pub fn with_compensation(mut self, on: bool) -> Self {
+        match &mut self {
+            Self::Conductor { compensate, .. }
+            | Self::Plastic { compensate, .. }
+            | Self::Dielectric { compensate, .. } => *compensate = on,
+            Self::Diffuse { .. } | Self::Emissive { .. } => {}
+        }
+        self
     }
 }
 
@@ -189,10 +182,23 @@ mod tests {
     use super::*;
 
     #[test]
-    fn gpu_material_is_48_bytes() {
-        assert_eq!(size_of::<GpuMaterial>(), 48);
-        let m = Material::Plastic { alpha: 0.1, ior: 1.5, albedo: Vec3::splat(0.5) }.to_gpu();
-        assert_eq!((m.kind, m.color[3], m.alpha), (GpuMaterial::PLASTIC, 1.5, [0.1, 0.1]));
+    fn presets_are_either_conductors_or_dielectrics() {
+        use MaterialPreset::*;
+        for p in [Gold, Silver, Copper, Aluminium, Ideal, Glass, Water, Diamond] {
+            assert!(p.conductor().is_some() != p.ior().is_some(), "{p:?}");
+        }
+        assert_eq!(Diamond.ior(), Some(2.42));
+        let glass = Material::Dielectric {
+            alpha_x: 0.1,
+            alpha_y: 0.2,
+            ior: 1.5,
+            transmittance: Vec3::ONE,
+            absorption: Vec3::ZERO,
+            thin: false,
+            compensate: true,
+        };
+        assert!(glass.is_anisotropic());
+        assert!(matches!(glass.with_compensation(false), Material::Dielectric { compensate: false, .. }));
     }
 
     #[test]

@@ -5,7 +5,7 @@ use toml::Spanned;
 
 use crate::check::{Interval, span_of};
 use crate::error::{ErrorKind, SceneError, Source};
-use crate::material::{ConductorFresnel, Material};
+use crate::material::{ConductorFresnel, Material, MaterialPreset};
 use crate::radiance::check_radiance;
 use crate::raw::{MaterialType, OneOrMany, RawMaterial};
 
@@ -18,8 +18,14 @@ pub(crate) fn build(src: Source<'_>, name: &str, raw: &RawMaterial) -> Result<Ma
     let kind = *raw.kind.get_ref();
     let (type_name, allowed): (_, &[&str]) = match kind {
         MaterialType::Diffuse => ("diffuse", &["albedo"]),
-        MaterialType::Conductor => ("conductor", &["roughness", "alpha", "eta", "k", "f0", "preset"]),
-        MaterialType::Plastic => ("plastic", &["roughness", "alpha", "ior", "albedo"]),
+        MaterialType::Conductor => {
+            ("conductor", &["roughness", "alpha", "eta", "k", "f0", "preset", "energy_compensation"])
+        }
+        MaterialType::Plastic => ("plastic", &["roughness", "alpha", "ior", "albedo", "energy_compensation"]),
+        MaterialType::Dielectric => (
+            "dielectric",
+            &["roughness", "alpha", "ior", "preset", "transmittance", "absorption", "thin", "energy_compensation"],
+        ),
         MaterialType::Emissive => ("emissive", &["radiance"]),
     };
     let present = [
@@ -32,6 +38,10 @@ pub(crate) fn build(src: Source<'_>, name: &str, raw: &RawMaterial) -> Result<Ma
         ("preset", span_of(&raw.preset)),
         ("ior", span_of(&raw.ior)),
         ("radiance", span_of(&raw.radiance)),
+        ("transmittance", span_of(&raw.transmittance)),
+        ("absorption", span_of(&raw.absorption)),
+        ("thin", span_of(&raw.thin)),
+        ("energy_compensation", span_of(&raw.energy_compensation)),
     ];
     src.only_keys(&path, type_name, &present, allowed)?;
     let missing = |what: &str| {
@@ -42,13 +52,14 @@ pub(crate) fn build(src: Source<'_>, name: &str, raw: &RawMaterial) -> Result<Ma
         let a = raw.albedo.as_ref().ok_or_else(|| missing("`albedo`"))?;
         Ok::<_, SceneError>(Vec3::from(src.array(a, &field("albedo"), UNIT)?))
     };
+    let compensate = raw.energy_compensation.as_ref().is_none_or(|v| *v.get_ref());
     match kind {
         MaterialType::Diffuse => Ok(Material::Diffuse { albedo: albedo()? }),
         MaterialType::Conductor => {
             let [alpha_x, alpha_y] = alpha(src, raw, &path)?.ok_or_else(|| missing("`roughness` or `alpha`"))?;
             let fresnel =
                 conductor_fresnel(src, raw, &path)?.ok_or_else(|| missing("`eta` and `k`, `f0` or `preset`"))?;
-            Ok(Material::Conductor { alpha_x, alpha_y, fresnel })
+            Ok(Material::Conductor { alpha_x, alpha_y, fresnel, compensate })
         }
         MaterialType::Plastic => {
             let [alpha_x, alpha_y] = alpha(src, raw, &path)?.ok_or_else(|| missing("`roughness` or `alpha`"))?;
@@ -59,8 +70,9 @@ pub(crate) fn build(src: Source<'_>, name: &str, raw: &RawMaterial) -> Result<Ma
                 return Err(src.error(span, &field(key), ErrorKind::Conflict, msg));
             }
             let ior = src.number_or(raw.ior.as_ref(), 1.5, &field("ior"), Interval::above(1.0))?;
-            Ok(Material::Plastic { alpha: alpha_x, ior, albedo: albedo()? })
+            Ok(Material::Plastic { alpha: alpha_x, ior, albedo: albedo()?, compensate })
         }
+        MaterialType::Dielectric => dielectric(src, raw, &path, compensate),
         MaterialType::Emissive => {
             let r = raw.radiance.as_ref().ok_or_else(|| missing("`radiance`"))?;
             let radiance = Vec3::from(src.array(r, &field("radiance"), Interval::at_least(0.0))?);
@@ -102,7 +114,13 @@ fn conductor_fresnel(src: Source<'_>, raw: &RawMaterial, path: &str) -> Result<O
         return Err(src.error(span.clone(), &format!("{path}.{key}"), ErrorKind::Conflict, msg));
     }
     if let Some(p) = &raw.preset {
-        return Ok(Some(p.get_ref().fresnel()));
+        return match p.get_ref().conductor() {
+            Some(fresnel) => Ok(Some(fresnel)),
+            None => {
+                let msg = format!("is a dielectric preset; conductors take {}", MaterialPreset::CONDUCTORS);
+                Err(src.error(p.span(), &format!("{path}.preset"), ErrorKind::Conflict, msg))
+            }
+        };
     }
     if let Some(f0) = &raw.f0 {
         let f0 = src.array(f0, &format!("{path}.f0"), UNIT)?;
@@ -120,4 +138,57 @@ fn conductor_fresnel(src: Source<'_>, raw: &RawMaterial, path: &str) -> Result<O
             Err(src.error(v.span(), &format!("{path}.{key}"), ErrorKind::Conflict, msg))
         }
     }
+}
+
+/// Smallest and largest accepted dielectric `ior`: the range of ggx-core's dielectric
+/// energy tables (water 1.33, glass 1.5, diamond 2.42 and their inverses lie inside).
+const IOR_RANGE: Interval = Interval::closed(1.0 / 3.0, 3.0);
+
+/// `type = "dielectric"`: `ior` or `preset` (default glass, 1.5), optional `roughness` or
+/// `alpha` (default 0: smooth), `transmittance` (default 1), `absorption` (default 0) and
+/// `thin` (a smooth sheet without interior, so neither roughness nor absorption applies).
+fn dielectric(src: Source<'_>, raw: &RawMaterial, path: &str, compensate: bool) -> Result<Material, SceneError> {
+    let field = |key: &str| format!("{path}.{key}");
+    let ior = match (&raw.ior, &raw.preset) {
+        (Some(_), Some(p)) => {
+            let msg = "give either `ior` or `preset`, not both";
+            return Err(src.error(p.span(), &field("preset"), ErrorKind::Conflict, msg));
+        }
+        (Some(v), None) => {
+            let ior = src.number(v, &field("ior"), IOR_RANGE)?;
+            if ior == 1.0 {
+                let msg = "1 is the outside's index: the surface would be invisible (give a tint with `transmittance` on a thin sheet instead)";
+                return Err(src.error(v.span(), &field("ior"), ErrorKind::OutOfRange, msg));
+            }
+            ior
+        }
+        (None, Some(p)) => p.get_ref().ior().ok_or_else(|| {
+            let msg = format!("is a conductor preset; dielectrics take {}", MaterialPreset::DIELECTRICS);
+            src.error(p.span(), &field("preset"), ErrorKind::Conflict, msg)
+        })?,
+        (None, None) => 1.5,
+    };
+    let [alpha_x, alpha_y] = alpha(src, raw, path)?.unwrap_or([0.0; 2]);
+    let transmittance = match &raw.transmittance {
+        Some(t) => Vec3::from(src.array(t, &field("transmittance"), UNIT)?),
+        None => Vec3::ONE,
+    };
+    let absorption = match &raw.absorption {
+        Some(a) => Vec3::from(src.array(a, &field("absorption"), Interval::at_least(0.0))?),
+        None => Vec3::ZERO,
+    };
+    let thin = raw.thin.as_ref().is_some_and(|t| *t.get_ref());
+    if thin {
+        let rough = raw.alpha.as_ref().or(raw.roughness.as_ref()).filter(|_| alpha_x > 0.0 || alpha_y > 0.0);
+        if let Some(r) = rough {
+            let key = if raw.alpha.is_some() { "alpha" } else { "roughness" };
+            let msg = "a thin sheet is smooth: remove it or set `thin = false`";
+            return Err(src.error(r.span(), &field(key), ErrorKind::Conflict, msg));
+        }
+        if let Some(a) = raw.absorption.as_ref().filter(|_| absorption != Vec3::ZERO) {
+            let msg = "a thin sheet has no interior to absorb in: tint it with `transmittance`";
+            return Err(src.error(a.span(), &field("absorption"), ErrorKind::Conflict, msg));
+        }
+    }
+    Ok(Material::Dielectric { alpha_x, alpha_y, ior, transmittance, absorption, thin, compensate })
 }

@@ -13,7 +13,7 @@ use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use toml::Spanned;
 
 use crate::integrator::{BsdfStrategy, LightStrategy, SamplerKind};
-use crate::material::ConductorPreset;
+use crate::material::MaterialPreset;
 
 /// Shorthand for an optional spanned value.
 pub(crate) type Opt<T> = Option<Spanned<T>>;
@@ -54,6 +54,7 @@ pub(crate) struct RawIntegrator {
     pub sampler: Option<SamplerKind>,
     pub bsdf_sampling: Option<BsdfStrategy>,
     pub light_strategy: Option<LightStrategy>,
+    pub energy_compensation: Option<bool>,
 }
 
 /// Material `type` strings.
@@ -63,6 +64,7 @@ pub(crate) enum MaterialType {
     Diffuse,
     Conductor,
     Plastic,
+    Dielectric,
     Emissive,
 }
 
@@ -78,9 +80,13 @@ pub(crate) struct RawMaterial {
     pub eta: Opt<[f64; 3]>,
     pub k: Opt<[f64; 3]>,
     pub f0: Opt<[f64; 3]>,
-    pub preset: Opt<ConductorPreset>,
+    pub preset: Opt<MaterialPreset>,
     pub ior: Opt<f64>,
     pub radiance: Opt<[f64; 3]>,
+    pub transmittance: Opt<[f64; 3]>,
+    pub absorption: Opt<[f64; 3]>,
+    pub thin: Opt<bool>,
+    pub energy_compensation: Opt<bool>,
 }
 
 /// Shape `type` strings.

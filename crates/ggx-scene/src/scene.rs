@@ -57,6 +57,13 @@ impl Scene {
         }
     }
 
+    /// Turns energy compensation on or off for every material (the command line's
+    /// `--energy-compensation`, like `integrator.energy_compensation` in the file).
+    pub fn set_energy_compensation(&mut self, on: bool) {
+        self.integrator.energy_compensation = Some(on);
+        self.materials.iter_mut().for_each(|m| *m = m.with_compensation(on));
+    }
+
     /// Index of the material called `name`.
     pub fn material_index(&self, name: &str) -> Option<usize> {
         self.material_names.iter().position(|n| n == name)

@@ -31,8 +31,11 @@ pub(crate) fn build(src: Source<'_>, raw: &RawScene, base_dir: &Path, limits: &L
     let camera = Camera::from_raw(src, &raw.camera)?;
     let integrator = IntegratorSettings::from_raw(src, raw.integrator.as_ref())?;
     let material_names: Vec<String> = raw.materials.keys().cloned().collect();
-    let materials =
+    let mut materials =
         raw.materials.iter().map(|(name, m)| material_build::build(src, name, m)).collect::<Result<Vec<_>, _>>()?;
+    if let Some(on) = integrator.energy_compensation {
+        materials.iter_mut().for_each(|m| *m = m.with_compensation(on));
+    }
     let mut prepared = Vec::with_capacity(raw.shapes.len());
     let mut budget = Budget::new(limits);
     for (index, shape) in raw.shapes.iter().enumerate() {
@@ -151,6 +154,7 @@ fn features(
         diffuse: used().any(|m| matches!(m, Material::Diffuse { .. })),
         conductors: used().any(|m| matches!(m, Material::Conductor { .. })),
         plastics: used().any(|m| matches!(m, Material::Plastic { .. })),
+        dielectrics: used().any(|m| matches!(m, Material::Dielectric { .. })),
         anisotropic: used().any(Material::is_anisotropic),
         shading_normals: !mesh.shading_normals.is_empty(),
         emissive_only: shapes > 0 && used().all(|m| matches!(m, Material::Emissive { .. })),

@@ -94,13 +94,48 @@ fn grazing() {
 #[test]
 fn furnace() {
     let s = load("furnace.toml");
-    let expected = SceneFeatures { constant_env: true, diffuse: true, conductors: true, ..Default::default() };
+    let expected = SceneFeatures {
+        constant_env: true,
+        diffuse: true,
+        conductors: true,
+        plastics: true,
+        dielectrics: true,
+        ..Default::default()
+    };
     assert_eq!(s.features, expected);
     assert!(matches!(s.environment, Some(Environment::Constant(l)) if l == glam::Vec3::ONE));
     assert!(s.materials.iter().any(|m| matches!(m, Material::Diffuse { albedo } if *albedo == glam::Vec3::ONE)));
     assert!(
         s.materials.iter().any(|m| matches!(m, Material::Conductor { fresnel: ggx_scene::ConductorFresnel::One, .. }))
     );
+    // Compensated by default; `--energy-compensation off` shows the loss.
+    let dielectrics = s.materials.iter().filter(|m| matches!(m, Material::Dielectric { compensate: true, .. }));
+    assert_eq!(dielectrics.count(), 2);
+    assert!(s.materials.iter().all(|m| !matches!(
+        m,
+        Material::Conductor { compensate: false, .. }
+            | Material::Plastic { compensate: false, .. }
+            | Material::Dielectric { compensate: false, .. }
+    )));
+}
+
+#[test]
+fn glass() {
+    let s = load("glass.toml");
+    let f = s.features;
+    assert!(f.dielectrics && f.area_lights && f.constant_env && f.diffuse && !f.conductors);
+    let alphas: Vec<f32> = s
+        .materials
+        .iter()
+        .filter_map(|m| match m {
+            Material::Dielectric { alpha_x, ior, .. } if *ior == 1.5 => Some(*alpha_x),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(alphas, [0.0, 0.02, 0.1, 0.3, 1.0]);
+    let bunny = load("glass-bunny.toml");
+    assert!(bunny.features.dielectrics && bunny.features.env_map && bunny.features.shading_normals);
+    assert!(bunny.materials.iter().any(|m| matches!(m, Material::Dielectric { absorption, .. } if absorption.x > 0.0)));
 }
 
 #[test]

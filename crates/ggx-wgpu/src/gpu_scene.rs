@@ -1,18 +1,22 @@
 //! [`SceneTables`] uploaded: storage buffers, the bind group, and one compute pipeline per
-//! kernel variant (`AREA`, `ENV`, `PLASTIC` override constants), built on first use.
+//! kernel variant (`AREA`, `ENV`, `PLASTIC`, `DIELECTRIC` override constants, ggx-render's
+//! [`KernelVariant`]), built on first use.
 
 use crate::context::{GpuContext, GpuError};
 use crate::parity::checked;
 use crate::scene_upload::{Params, SceneTables, non_empty};
+use ggx_render::KernelVariant;
 use std::collections::HashMap;
 use std::sync::Mutex;
 use wgpu::util::DeviceExt;
 
-/// WGSL source of the path tracer: [`crate::GGX_CORE_WGSL`], `scene.wgsl` and `path_tracer.wgsl`.
+/// WGSL source of the path tracer: [`crate::GGX_CORE_WGSL`], [`crate::ENERGY_WGSL`],
+/// `scene.wgsl` and `path_tracer.wgsl`.
 pub fn path_tracer_wgsl() -> String {
     format!(
-        "{}\n{}\n{}",
+        "{}\n{}\n{}\n{}",
         crate::GGX_CORE_WGSL,
+        crate::ENERGY_WGSL,
         include_str!("shaders/scene.wgsl"),
         include_str!("shaders/path_tracer.wgsl")
     )
@@ -30,38 +34,11 @@ fn check_buffer_sizes(ctx: &GpuContext, sizes: &[(&'static str, u64)]) -> Result
     }
 }
 
-/// Which features a kernel variant keeps (the others are compiled out).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct Variant {
-    /// Area lights.
-    pub area: bool,
-    /// Environment.
-    pub env: bool,
-    /// Plastics.
-    pub plastic: bool,
-}
-
-impl Variant {
-    /// The variant's name, as ggx-cpu names its kernels (`"area+env"`, `"none"`).
-    pub fn name(&self) -> &'static str {
-        match (self.area, self.env, self.plastic) {
-            (true, true, true) => "area+env+plastic",
-            (true, true, false) => "area+env",
-            (true, false, true) => "area+plastic",
-            (true, false, false) => "area",
-            (false, true, true) => "env+plastic",
-            (false, true, false) => "env",
-            (false, false, true) => "plastic",
-            (false, false, false) => "none",
-        }
-    }
-}
-
 /// The uploaded scene.
 pub struct GpuScene {
     module: wgpu::ShaderModule,
     layout: wgpu::PipelineLayout,
-    pipelines: Mutex<HashMap<Variant, wgpu::ComputePipeline>>,
+    pipelines: Mutex<HashMap<KernelVariant, wgpu::ComputePipeline>>,
     /// The bind group over all buffers.
     pub bind_group: wgpu::BindGroup,
     /// The per-dispatch uniform.
@@ -178,7 +155,7 @@ impl GpuScene {
     }
 
     /// The pipeline of `variant`, compiled on first use and cached.
-    pub fn pipeline(&self, ctx: &GpuContext, variant: Variant) -> Result<wgpu::ComputePipeline, GpuError> {
+    pub fn pipeline(&self, ctx: &GpuContext, variant: KernelVariant) -> Result<wgpu::ComputePipeline, GpuError> {
         let mut cache = self.pipelines.lock().map_err(|e| GpuError::Wgpu(e.to_string()))?;
         if let Some(p) = cache.get(&variant) {
             return Ok(p.clone());
@@ -187,6 +164,7 @@ impl GpuScene {
             ("AREA", f64::from(u8::from(variant.area))),
             ("ENV", f64::from(u8::from(variant.env))),
             ("PLASTIC", f64::from(u8::from(variant.plastic))),
+            ("DIELECTRIC", f64::from(u8::from(variant.dielectric))),
         ];
         let pipeline = checked(ctx.device(), || {
             ctx.device().create_compute_pipeline(&wgpu::ComputePipelineDescriptor {

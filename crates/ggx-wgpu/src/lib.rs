@@ -1,11 +1,11 @@
 //! # ggx-wgpu
 //!
-//! The GPU twin of [`ggx_core`]: [`GGX_CORE_WGSL`] mirrors the crate function by function in
-//! WGSL, and [`run_parity`] runs every mirrored function on a wgpu adapter over edge-case
-//! input tables and compares the results with ggx-core on the CPU (sequences bit for bit,
-//! floating-point math within a stated ULP / absolute bound). [`WgpuRenderer`] is ggx-cpu's
-//! path tracer on the GPU: the same passes, sample streams and integrator, so it renders the
-//! same image up to floating-point differences.
+//! The GPU twin of [`ggx_core`]: [`GGX_CORE_WGSL`] and [`ENERGY_WGSL`] mirror the crate
+//! function by function in WGSL, and [`run_parity`] runs every mirrored function on a wgpu
+//! adapter over edge-case input tables and compares the results with ggx-core on the CPU
+//! (sequences bit for bit, floating-point math within a stated ULP / absolute bound).
+//! [`WgpuRenderer`] is ggx-cpu's path tracer on the GPU: the same passes, sample streams and
+//! integrator, so it renders the same image up to floating-point differences.
 //!
 //! ```no_run
 //! let ctx = ggx_wgpu::GpuContext::new(Default::default())?;
@@ -25,7 +25,8 @@ mod renderer;
 pub mod scene_upload;
 
 pub use context::{GpuContext, GpuError, GpuOptions};
-pub use gpu_scene::{Variant, path_tracer_wgsl};
+pub use ggx_render::KernelVariant;
+pub use gpu_scene::path_tracer_wgsl;
 pub use parity::{Bound, Contract, GroupReport, ParityReport, ProbeReport, RowReport, Witness, run_parity};
 pub use renderer::{DISPATCH_PATHS, WgpuRenderer};
 
@@ -33,7 +34,13 @@ pub use renderer::{DISPATCH_PATHS, WgpuRenderer};
 /// no bindings, so it can be prepended to any shader.
 pub const GGX_CORE_WGSL: &str = include_str!("shaders/ggx_core.wgsl");
 
-/// WGSL source of the parity kernel; it expects [`GGX_CORE_WGSL`] in front of it.
+/// WGSL source of ggx-core's energy compensation, compensated BSDFs and thin sheet; it expects
+/// [`GGX_CORE_WGSL`] in front of it and `fn energy_table(i: u32) -> f32` from the shader that
+/// includes it.
+pub const ENERGY_WGSL: &str = include_str!("shaders/energy.wgsl");
+
+/// WGSL source of the parity kernel; it expects [`GGX_CORE_WGSL`] and [`ENERGY_WGSL`] in front of
+/// it, in that order, and defines energy.wgsl's `energy_table` over its binding 4.
 pub const PARITY_WGSL: &str = include_str!("shaders/parity.wgsl");
 
 /// The `SOBOL_DIRECTIONS` constant of [`GGX_CORE_WGSL`] as generated from
@@ -76,7 +83,15 @@ mod tests {
     #[test]
     fn shaders_parse_and_validate() {
         validate(&parse(GGX_CORE_WGSL));
-        validate(&parse(&format!("{GGX_CORE_WGSL}\n{PARITY_WGSL}")));
+        // The parity kernel: GGX_CORE_WGSL, ENERGY_WGSL, PARITY_WGSL, whole and as each row's
+        // pipeline compiles it (one arm of its switch).
+        let parity = crate::parity::parity_source();
+        assert!(parity.starts_with(GGX_CORE_WGSL) && parity.contains(ENERGY_WGSL) && parity.ends_with(PARITY_WGSL));
+        validate(&parse(&parity));
+        for (name, source) in crate::parity::kernel_sources() {
+            assert!(source.starts_with(GGX_CORE_WGSL) && source.contains(ENERGY_WGSL), "{name}");
+            validate(&parse(&source));
+        }
         validate(&parse(&path_tracer_wgsl()));
     }
 
@@ -119,6 +134,7 @@ mod tests {
     fn path_tracer_layouts_match_the_rust_pod_structs() {
         use crate::bvh_flat::BvhNode;
         use crate::scene_upload::{MaterialRecord, Params};
+        use ggx_core::{GgxConductorMs, GgxDielectricMs};
         use ggx_scene::{Emitter, ShadingNormals, Triangle};
         let module = parse(&path_tracer_wgsl());
         assert_layout!(&module, BvhNode, min, prim_count, max, first_index);
@@ -133,7 +149,9 @@ mod tests {
             ("kind", core::mem::offset_of!(MaterialRecord, kind)),
             ("emission", core::mem::offset_of!(MaterialRecord, emission)),
             ("ior", core::mem::offset_of!(MaterialRecord, ior)),
+            ("extra", core::mem::offset_of!(MaterialRecord, extra)),
             ("sampling", core::mem::offset_of!(MaterialRecord, sampling)),
+            ("compensation", core::mem::offset_of!(MaterialRecord, compensation)),
             ("pad0", core::mem::offset_of!(MaterialRecord, pad0)),
             ("pad1", core::mem::offset_of!(MaterialRecord, pad1)),
             ("pad2", core::mem::offset_of!(MaterialRecord, pad2)),
@@ -177,8 +195,39 @@ mod tests {
             env_marginal_cdf,
             env_texels,
             env_marginal_integral,
-            pad0,
+            energy_tables,
             pad1
+        );
+        assert_layout!(&module, GgxConductorMs, conductor, f_avg, compensation);
+        assert_layout!(&module, GgxDielectricMs, dielectric, compensation, pad);
+    }
+
+    /// `energy.wgsl`'s table offsets and dims are those of the tables the upload appends.
+    #[test]
+    fn energy_table_offsets_match_the_upload() {
+        use ggx_core::energy_dielectric::{coat_albedo_table, dielectric_albedo_outside_table};
+        let constant = |name: &str| -> usize {
+            let key = format!("const {name}: u32 = ");
+            let rest = &ENERGY_WGSL[ENERGY_WGSL.find(&key).unwrap_or_else(|| panic!("{key}")) + key.len()..];
+            rest[..rest.find('u').unwrap()].parse().unwrap()
+        };
+        let tables = crate::scene_upload::energy_tables();
+        let mut offsets = vec![0];
+        for t in &tables {
+            offsets.push(offsets.last().unwrap() + t.len());
+        }
+        let names =
+            ["ENERGY_E", "ENERGY_E_AVG", "ENERGY_E_T_OUTSIDE", "ENERGY_E_T_INSIDE", "ENERGY_E_R", "ENERGY_E_R_AVG"];
+        for (name, offset) in names.iter().zip(&offsets) {
+            assert_eq!(constant(name), *offset, "{name}");
+        }
+        assert_eq!(constant("ENERGY_TABLES_LEN"), offsets[6]);
+        assert_eq!(constant("ENERGY_N"), ggx_core::energy_tables::N);
+        let [n_eta, n_alpha, n_mu] = dielectric_albedo_outside_table().1;
+        assert_eq!(coat_albedo_table().1, [n_eta, n_alpha, n_mu]);
+        assert_eq!(
+            [constant("DIELECTRIC_N_ETA"), constant("DIELECTRIC_N_ALPHA"), constant("DIELECTRIC_N_MU")],
+            [n_eta, n_alpha, n_mu]
         );
     }
 }

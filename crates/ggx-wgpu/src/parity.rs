@@ -1,7 +1,8 @@
-//! The parity harness: every function of `ggx_core.wgsl` runs on the GPU over input tables
-//! built here, and its outputs are compared with ggx-core on the CPU word by word, each group
-//! of output words (a direction, a colour, a pdf, flags) under its own [`Bound`] and
-//! [`Contract`].
+//! The parity harness: every function of `ggx_core.wgsl` and `energy.wgsl` that mirrors a
+//! ggx-core function runs on the GPU over input tables built here, and its outputs are compared
+//! with ggx-core on the CPU word by word, each group of output words (a direction, a colour, a
+//! pdf, flags) under its own [`Bound`] and [`Contract`]. The kernel reads energy.wgsl's tables
+//! from a binding that holds [`crate::scene_upload::energy_tables`], the data ggx-core reads.
 
 use std::fmt::{self, Write as _};
 use std::ops::Range;
@@ -11,7 +12,7 @@ use bytemuck::Zeroable as _;
 use ggx_core::{GgxConductor, GgxDielectric};
 use wgpu::util::DeviceExt as _;
 
-use crate::{GGX_CORE_WGSL, GpuContext, GpuError, PARITY_WGSL};
+use crate::{ENERGY_WGSL, GGX_CORE_WGSL, GpuContext, GpuError, PARITY_WGSL};
 
 mod cases;
 
@@ -286,10 +287,10 @@ impl ParityReport {
     /// `rel`, `abs`: inputs, the GPU's and ggx-core's outputs); then the adapter probe and
     /// the worst case of every failing group.
     pub fn table(&self) -> String {
-        let mut s = format!("parity of ggx_core.wgsl against ggx-core on {}\n", self.adapter);
+        let mut s = format!("parity of ggx_core.wgsl and energy.wgsl against ggx-core on {}\n", self.adapter);
         let _ = writeln!(
             s,
-            "{:<26} {:>7} {:<16} {:>10} {:>9} {:>9} {:<16} {:<8} {:>7} {:>7}  result",
+            "{:<36} {:>7} {:<16} {:>10} {:>9} {:>9} {:<16} {:<8} {:>7} {:>7}  result",
             "function", "cases", "words", "max ulp", "max rel", "max abs", "bound", "contract", "nan g/c", "inf g/c"
         );
         for r in &self.rows {
@@ -302,7 +303,7 @@ impl ParityReport {
                 };
                 let _ = writeln!(
                     s,
-                    "{name:<26} {cases:>7} {:<16} {ulp:>10} {:>9.2e} {:>9.2e} {bound:<16} {contract:<8} {:>7} {:>7}  {}",
+                    "{name:<36} {cases:>7} {:<16} {ulp:>10} {:>9.2e} {:>9.2e} {bound:<16} {contract:<8} {:>7} {:>7}  {}",
                     g.name,
                     g.max_rel,
                     g.max_abs,
@@ -359,12 +360,68 @@ fn func_id(name: &str) -> Option<u32> {
 // Running and comparing
 // ---------------------------------------------------------------------------------------------
 
-/// The shader module and layouts shared by every function's pipeline.
+/// The kernel's WGSL with every arm: [`GGX_CORE_WGSL`], [`ENERGY_WGSL`] and [`PARITY_WGSL`], in
+/// that order. Each pipeline compiles it with one arm left ([`row_source`]); a test validates
+/// both.
+#[cfg(test)]
+pub(crate) fn parity_source() -> String {
+    format!("{GGX_CORE_WGSL}\n{ENERGY_WGSL}\n{PARITY_WGSL}")
+}
+
+/// What every pipeline compiles: the [`row_source`] of each function of parity.wgsl (each
+/// `const F_<NAME>`), by name.
+#[cfg(test)]
+pub(crate) fn kernel_sources() -> Vec<(String, String)> {
+    let names = PARITY_WGSL.lines().filter_map(|l| Some(l.strip_prefix("const F_")?.split(':').next()?.to_lowercase()));
+    names.map(|n| (n.clone(), row_source(&n).unwrap_or_else(|| panic!("no case F_{}", n.to_uppercase())))).collect()
+}
+
+/// What the pipeline of function `name` compiles: [`GGX_CORE_WGSL`], [`ENERGY_WGSL`] and
+/// [`PARITY_WGSL`] with only the arms `case F_<NAME>` and `default` left in the kernel's
+/// `switch FUNC` (and the comments between arms dropped). A driver inlines every arm's call
+/// graph before it folds the switch on the pipeline constant: with all arms llvmpipe spent
+/// about 0.7 s on each row's pipeline (a minute for the table), with one about 10 ms. `None`
+/// when parity.wgsl has no such arm.
+fn row_source(name: &str) -> Option<String> {
+    let arm = format!("        case F_{}: {{", name.to_uppercase());
+    let mut kept = String::new();
+    let (mut in_switch, mut keep, mut found) = (false, true, false);
+    for line in PARITY_WGSL.lines() {
+        if line == "    switch FUNC {" {
+            in_switch = true;
+        } else if in_switch && line == "    }" {
+            in_switch = false;
+            keep = true;
+        } else if in_switch && line.starts_with("        ") && !line.starts_with("         ") {
+            // An arm's first or last line, or a comment between arms.
+            if line.starts_with("        case ") || line.starts_with("        default") {
+                keep = line == arm || line == "        default: {";
+                found |= line == arm;
+            } else if line != "        }" {
+                continue;
+            }
+        }
+        if keep {
+            kept.push_str(line);
+            kept.push('\n');
+        }
+    }
+    found.then(|| format!("{GGX_CORE_WGSL}\n{ENERGY_WGSL}\n{kept}"))
+}
+
+/// ggx-core's energy-compensation tables concatenated in the order energy.wgsl reads them
+/// (binding 4, `energy_table` in parity.wgsl).
+fn energy_values() -> Vec<f32> {
+    crate::scene_upload::energy_tables().concat()
+}
+
+/// The layouts and the energy tables shared by every function's pipeline.
 struct Kernel<'a> {
     ctx: &'a GpuContext,
-    module: wgpu::ShaderModule,
     bind_group_layout: wgpu::BindGroupLayout,
     pipeline_layout: wgpu::PipelineLayout,
+    /// [`energy_values`], uploaded once.
+    energy: wgpu::Buffer,
 }
 
 /// Runs `f` inside a validation error scope and turns a captured error into [`GpuError::Wgpu`].
@@ -381,11 +438,6 @@ impl<'a> Kernel<'a> {
     fn new(ctx: &'a GpuContext) -> Result<Self, GpuError> {
         let device = ctx.device();
         checked(device, || {
-            let source = format!("{GGX_CORE_WGSL}\n{PARITY_WGSL}");
-            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some("ggx parity"),
-                source: wgpu::ShaderSource::Wgsl(source.into()),
-            });
             let storage = |binding, read_only| wgpu::BindGroupLayoutEntry {
                 binding,
                 visibility: wgpu::ShaderStages::COMPUTE,
@@ -398,24 +450,37 @@ impl<'a> Kernel<'a> {
             };
             let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("ggx parity"),
-                entries: &[storage(0, true), storage(1, true), storage(2, false), storage(3, true)],
+                entries: &[storage(0, true), storage(1, true), storage(2, false), storage(3, true), storage(4, true)],
             });
             let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
                 label: Some("ggx parity"),
                 bind_group_layouts: &[Some(&bind_group_layout)],
                 immediate_size: 0,
             });
-            Kernel { ctx, module, bind_group_layout, pipeline_layout }
+            let energy = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("parity energy tables"),
+                contents: bytemuck::cast_slice(&energy_values()),
+                usage: wgpu::BufferUsages::STORAGE,
+            });
+            Kernel { ctx, bind_group_layout, pipeline_layout, energy }
         })
     }
 
-    /// The pipeline specialised to one function through the `FUNC` override constant.
-    fn pipeline(&self, func: u32) -> Result<wgpu::ComputePipeline, GpuError> {
-        checked(self.ctx.device(), || {
-            self.ctx.device().create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+    /// The pipeline of function `name`: [`row_source`], specialised through the `FUNC`
+    /// override constant.
+    fn pipeline(&self, name: &str) -> Result<wgpu::ComputePipeline, GpuError> {
+        let func = func_id(name).unwrap_or_else(|| panic!("no F_{} in parity.wgsl", name.to_uppercase()));
+        let source = row_source(name).unwrap_or_else(|| panic!("no case F_{} in parity.wgsl", name.to_uppercase()));
+        let device = self.ctx.device();
+        checked(device, || {
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some("ggx parity"),
+                source: wgpu::ShaderSource::Wgsl(source.into()),
+            });
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some("ggx parity"),
                 layout: Some(&self.pipeline_layout),
-                module: &self.module,
+                module: &module,
                 entry_point: Some("main"),
                 compilation_options: wgpu::PipelineCompilationOptions {
                     constants: &[("FUNC", f64::from(func))],
@@ -426,16 +491,16 @@ impl<'a> Kernel<'a> {
         })
     }
 
-    /// Runs function `func` over the cases (each with its conductor and its dielectric),
+    /// Runs function `name` over the cases (each with its conductor and its dielectric),
     /// `CHUNK` at a time; returns `OUT_WORDS` words per case.
     fn run(
         &self,
-        func: u32,
+        name: &str,
         cases: &[Input],
         bsdfs: &[GgxConductor],
         dielectrics: &[GgxDielectric],
     ) -> Result<Vec<u32>, GpuError> {
-        let pipeline = self.pipeline(func)?;
+        let pipeline = self.pipeline(name)?;
         let mut out = Vec::with_capacity(cases.len() * OUT_WORDS);
         let chunks = cases.chunks(CHUNK).zip(bsdfs.chunks(CHUNK)).zip(dielectrics.chunks(CHUNK));
         for ((inputs, bsdfs), dielectrics) in chunks {
@@ -484,6 +549,7 @@ impl<'a> Kernel<'a> {
                     wgpu::BindGroupEntry { binding: 1, resource: bsdf_buffer.as_entire_binding() },
                     wgpu::BindGroupEntry { binding: 2, resource: output.as_entire_binding() },
                     wgpu::BindGroupEntry { binding: 3, resource: dielectric_buffer.as_entire_binding() },
+                    wgpu::BindGroupEntry { binding: 4, resource: self.energy.as_entire_binding() },
                 ],
             });
             let mut encoder =
@@ -731,8 +797,7 @@ fn probe(kernel: &Kernel) -> Result<ProbeReport, GpuError> {
         b: [f32::from_bits(1 << 13), 1e-20, one_p, -(1.0 + 1.0 / 2048.0)],
         ..Default::default()
     };
-    let id = func_id("probe").expect("parity.wgsl defines F_PROBE");
-    let w = kernel.run(id, &[input], &[GgxConductor::zeroed()], &[GgxDielectric::zeroed()])?;
+    let w = kernel.run("probe", &[input], &[GgxConductor::zeroed()], &[GgxDielectric::zeroed()])?;
     let f = |k: usize| f32::from_bits(w[k]);
     Ok(ProbeReport {
         nan_ne_self: w[0] == 1,
@@ -750,17 +815,14 @@ fn probe(kernel: &Kernel) -> Result<ProbeReport, GpuError> {
     })
 }
 
-/// Runs every function of `ggx_core.wgsl` on the context's adapter over the CPU-built input
-/// tables and compares with ggx-core. Errors are GPU failures (shader compilation, device
-/// loss); mismatches are reported in the [`ParityReport`].
+/// Runs every function of `ggx_core.wgsl` and `energy.wgsl` on the context's adapter over the
+/// CPU-built input tables and compares with ggx-core. Errors are GPU failures (shader
+/// compilation, device loss); mismatches are reported in the [`ParityReport`].
 pub fn run_parity(ctx: &GpuContext) -> Result<ParityReport, GpuError> {
     let kernel = Kernel::new(ctx)?;
     let rows = specs()
         .iter()
-        .map(|spec| {
-            let id = func_id(spec.name).expect("every row has a `case F_<NAME>` in parity.wgsl");
-            Ok(compare(spec, &kernel.run(id, &spec.cases, &spec.bsdfs, &spec.dielectrics)?))
-        })
+        .map(|spec| Ok(compare(spec, &kernel.run(spec.name, &spec.cases, &spec.bsdfs, &spec.dielectrics)?)))
         .collect::<Result<Vec<_>, GpuError>>()?;
     Ok(ParityReport { adapter: ctx.describe(), rows, probe: probe(&kernel)? })
 }
@@ -782,6 +844,41 @@ mod tests {
         ids.sort_unstable();
         ids.dedup();
         assert_eq!(ids.len(), specs.len(), "ids are unique");
+    }
+
+    #[test]
+    fn each_pipeline_compiles_one_arm_of_the_switch() {
+        let sources = kernel_sources();
+        assert_eq!(sources.len(), PARITY_WGSL.matches("\n        case F_").count(), "a source per arm");
+        let prefix = format!("{GGX_CORE_WGSL}\n{ENERGY_WGSL}\n");
+        let all: Vec<&str> = PARITY_WGSL.lines().collect();
+        for (name, source) in &sources {
+            let parity = source.strip_prefix(&prefix).expect("ggx_core.wgsl and energy.wgsl in front");
+            let arms: Vec<&str> = parity.lines().filter(|l| l.trim_start().starts_with("case F_")).collect();
+            assert_eq!(arms, [format!("        case F_{}: {{", name.to_uppercase())], "{name}");
+            assert!(parity.contains("\n        default: {\n"), "{name}");
+            // The kept lines are parity.wgsl's, in order: whole arms are left out, nothing else.
+            let mut rest = all.iter();
+            for line in parity.lines() {
+                assert!(rest.any(|l| *l == line), "{name}: {line:?} out of order or not in parity.wgsl");
+            }
+            let (kept, total) = (parity.lines().count(), all.len());
+            let left_out = total - kept;
+            let arm_lines = |n: &str| {
+                let start = all.iter().position(|l| *l == format!("        case F_{}: {{", n.to_uppercase())).unwrap();
+                all[start..].iter().position(|l| *l == "        }").unwrap() + 1
+            };
+            let other_arms: usize = sources.iter().filter(|(n, _)| n != name).map(|(n, _)| arm_lines(n)).sum();
+            let comments = all.iter().filter(|l| l.starts_with("        //")).count();
+            assert_eq!(left_out, other_arms + comments, "{name}: the other arms and the comments between them");
+        }
+        assert_eq!(row_source("no_such_function"), None);
+        let sample = row_source("ggx_conductor_ms_sample").unwrap();
+        assert!(
+            sample
+                .contains("put_sample(ggx_conductor_ms_sample(conductor_ms(p, bsdf), p.a.xyz, p.b.xy, p.b.z, p.n.x));")
+        );
+        assert!(!sample.contains("put_sample(ggx_conductor_sample("));
     }
 
     #[test]

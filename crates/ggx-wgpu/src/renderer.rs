@@ -6,9 +6,11 @@
 
 use crate::bvh_flat::STACK_SIZE;
 use crate::context::{GpuContext, GpuError};
-use crate::gpu_scene::{GpuScene, Variant};
+use crate::gpu_scene::GpuScene;
 use crate::scene_upload::{Params, SceneTables};
-use ggx_render::{Progress, RenderControl, RenderOptions, RenderResult, new_film, pass_spp, time_budget};
+use ggx_render::{
+    KernelVariant, Progress, RenderControl, RenderOptions, RenderResult, new_film, pass_spp, time_budget,
+};
 use ggx_scene::{IntegratorSettings, Scene, SceneFeatures};
 use glam::Vec3;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -65,13 +67,8 @@ impl<'a> WgpuRenderer<'a> {
     }
 
     /// The kernel variant for the scene's features (everything when `specialize` is false).
-    pub fn variant(&self, specialize: bool) -> Variant {
-        let f = &self.features;
-        Variant {
-            area: !specialize || f.area_lights,
-            env: !specialize || f.env_map || f.constant_env,
-            plastic: !specialize || f.plastics,
-        }
+    pub fn variant(&self, specialize: bool) -> KernelVariant {
+        KernelVariant::for_scene(&self.features, specialize)
     }
 
     /// Renders the scene's `spp` samples per pixel (or until its time budget or `cancel`,

@@ -9,22 +9,35 @@ use ggx_render::{Bsdf, stream_seed};
 use ggx_scene::{Emitter, Environment, LightStrategy, SamplerKind, Scene, ShadingNormals, Triangle};
 use glam::{Quat, Vec3};
 
-/// A material as the shader shades it, 112 bytes (WGSL `Material`).
+/// A material as the shader shades it, 128 bytes (WGSL `Material`).
+///
+/// | `kind` | `conductor` | `albedo` | `ior` | `extra` | `compensation` |
+/// |---|---|---|---|---|---|
+/// | `MAT_DIFFUSE` 0 | - | albedo | - | - | - |
+/// | `MAT_CONDUCTOR` 1 | the BRDF | - | - | `F_avg` | Kulla-Conty lobe on |
+/// | `MAT_PLASTIC` 2 | the coat | base albedo | coat ior | - | `1 - E` base coupling on |
+/// | `MAT_BLACK` 3 | - | - | - | - | - |
+/// | `MAT_DIELECTRIC` 4 | alphas in `distribution` | transmittance | eta | absorption | energy scale on |
+/// | `MAT_THIN` 5 | - | transmittance | eta | - | - |
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct MaterialRecord {
-    /// The conductor (or a plastic's coat), precomputed by ggx-core.
+    /// The conductor (or a plastic's coat, or a dielectric's distribution), from ggx-core.
     pub conductor: GgxConductor,
-    /// Albedo of a diffuse material or a plastic's base.
+    /// Albedo of a diffuse material or a plastic's base; a dielectric's transmittance.
     pub albedo: [f32; 3],
-    /// `MAT_DIFFUSE` (0), `MAT_CONDUCTOR` (1), `MAT_PLASTIC` (2) or `MAT_BLACK` (3).
+    /// One of the `MAT_*` kinds in the table.
     pub kind: u32,
     /// Emitted radiance (zero unless emissive).
     pub emission: [f32; 3],
-    /// Coat index of refraction of a plastic.
+    /// Coat index of refraction of a plastic; relative index of a dielectric.
     pub ior: f32,
-    /// `ggx_core::Sampling` discriminant of the conductor or coat lobe.
+    /// A conductor's `F_avg` (`ggx_core::GgxConductorMs::f_avg`); a dielectric's absorption.
+    pub extra: [f32; 3],
+    /// `ggx_core::Sampling` discriminant of the conductor, coat or dielectric lobe.
     pub sampling: u32,
+    /// Non-zero: energy compensation on (see the table).
+    pub compensation: u32,
     /// Padding.
     pub pad0: u32,
     /// Padding.
@@ -41,10 +54,21 @@ impl MaterialRecord {
         r.kind = 3;
         match *bsdf {
             Bsdf::Diffuse { albedo } => (r.kind, r.albedo) = (0, albedo.to_array()),
-            Bsdf::Conductor { brdf, sampling } => (r.kind, r.conductor, r.sampling) = (1, brdf, sampling as u32),
-            Bsdf::Plastic { coat, ior, albedo, sampling } => {
-                (r.kind, r.conductor, r.ior, r.albedo, r.sampling) = (2, coat, ior, albedo.to_array(), sampling as u32)
+            Bsdf::Conductor { brdf, sampling } => {
+                (r.kind, r.conductor, r.sampling) = (1, brdf.conductor, sampling as u32);
+                (r.extra, r.compensation) = (brdf.f_avg, brdf.compensation);
             }
+            Bsdf::Plastic { coat, ior, albedo, sampling, compensate } => {
+                (r.kind, r.conductor, r.ior, r.albedo, r.sampling) = (2, coat, ior, albedo.to_array(), sampling as u32);
+                r.compensation = u32::from(compensate);
+            }
+            Bsdf::Dielectric { bsdf, transmittance, absorption, sampling } => {
+                r.kind = 4;
+                r.conductor.distribution = bsdf.dielectric.distribution;
+                (r.ior, r.albedo, r.extra) = (bsdf.dielectric.eta, transmittance.to_array(), absorption.to_array());
+                (r.sampling, r.compensation) = (sampling as u32, bsdf.compensation);
+            }
+            Bsdf::Thin { sheet, transmittance } => (r.kind, r.ior, r.albedo) = (5, sheet.eta, transmittance.to_array()),
             Bsdf::Black => {}
         }
         r
@@ -101,7 +125,7 @@ pub struct Params {
     pub max_depth: u32,
     /// Depth from which Russian roulette applies (0 = never).
     pub roulette_depth: u32,
-    /// 1 when bounces draw a lobe sample (the scene has plastics).
+    /// 1 when bounces draw a lobe sample (`Bsdf::uses_lobe_sample` of some material).
     pub draw_lobe: u32,
     /// Number of emitters.
     pub emitter_count: u32,
@@ -123,8 +147,9 @@ pub struct Params {
     pub env_texels: u32,
     /// Integral of the map's distribution over the square.
     pub env_marginal_integral: f32,
-    /// Padding.
-    pub pad0: u32,
+    /// Offset of ggx-core's energy-compensation tables ([`energy_tables`]) in the table;
+    /// unused (0) when no material is compensated.
+    pub energy_tables: u32,
     /// Padding.
     pub pad1: u32,
 }
@@ -150,8 +175,8 @@ impl SceneTables {
     pub fn new(scene: &Scene) -> SceneTables {
         let bvh = FlatBvh::build(&scene.mesh.triangles);
         let strategy = scene.integrator.bsdf_sampling;
-        let materials =
-            scene.materials.iter().map(|m| MaterialRecord::new(&Bsdf::new(m, strategy), m.emission())).collect();
+        let bsdfs: Vec<Bsdf> = scene.materials.iter().map(|m| Bsdf::new(m, strategy)).collect();
+        let materials = bsdfs.iter().zip(&scene.materials).map(|(b, m)| MaterialRecord::new(b, m.emission())).collect();
         let mut leaf_of = vec![u32::MAX; scene.mesh.triangles.len()];
         for (leaf, &t) in bvh.primitive_to_triangle.iter().enumerate().rev() {
             if let Some(slot) = leaf_of.get_mut(t as usize) {
@@ -190,7 +215,7 @@ impl SceneTables {
             },
             max_depth: it.max_depth,
             roulette_depth: it.russian_roulette,
-            draw_lobe: u32::from(scene.features.plastics),
+            draw_lobe: u32::from(bsdfs.iter().any(Bsdf::uses_lobe_sample)),
             emitter_count: scene.lights.emitters.len() as u32,
             env_to_map: [0.0, 0.0, 0.0, 1.0],
             env_to_world: [0.0, 0.0, 0.0, 1.0],
@@ -214,6 +239,12 @@ impl SceneTables {
                 params.env_texels = push(&mut table, m.texels.as_flattened());
             }
         }
+        if bsdfs.iter().any(Bsdf::is_compensated) {
+            params.energy_tables = table.len() as u32;
+            for t in energy_tables() {
+                table.extend_from_slice(t);
+            }
+        }
         SceneTables { bvh, normals: scene.mesh.shading_normals.clone(), materials, emitters, table, params }
     }
 
@@ -230,6 +261,22 @@ impl SceneTables {
     pub fn triangles(&self) -> Vec<Triangle> {
         non_empty(&self.bvh.triangles)
     }
+}
+
+/// ggx-core's energy-compensation tables in the order `energy.wgsl` reads them from
+/// `Params::energy_tables` on (its `ENERGY_*` offsets): the conductor's `E` (row-major) and
+/// `E_avg`, then the dielectric's `E_T` outside and inside, the coat's `E_R` and `E_R_avg`
+/// (`ggx_core::energy_dielectric`'s flat tables).
+pub fn energy_tables() -> [&'static [f32]; 6] {
+    use ggx_core::energy_dielectric::*;
+    [
+        ggx_core::energy_tables::E.as_flattened(),
+        &ggx_core::energy_tables::E_AVG,
+        dielectric_albedo_outside_table().0,
+        dielectric_albedo_inside_table().0,
+        coat_albedo_table().0,
+        coat_average_albedo_table().0,
+    ]
 }
 
 /// `values` appended to `table`; returns their offset.

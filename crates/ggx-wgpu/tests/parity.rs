@@ -1,4 +1,5 @@
-//! Runs the WGSL mirror of ggx-core on the available adapter and compares it with the CPU.
+//! Runs the WGSL mirror of ggx-core (ggx_core.wgsl and energy.wgsl) on the available adapter and
+//! compares it with the CPU.
 //!
 //! `cargo test -p ggx-wgpu --test parity -- --nocapture` prints the parity table. Without an
 //! adapter the test skips loudly, unless `CI=true`, where a missing adapter is a failure.

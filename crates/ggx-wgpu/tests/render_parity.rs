@@ -29,8 +29,20 @@ const PIXEL_TOLERANCE: f64 = 1e-3;
 ///   up to 3.1e-5 (bunny: a handful of pixels, max relative error 0.13). Bounds: 8% of
 ///   pixels and relMSE 2e-4, a few times the measurement, far below what a sampling
 ///   difference gives (a wrong dimension or order changes nearly every pixel, relMSE > 1e-2).
+/// * Glass: `refract`'s square root and division are not correctly rounded on every driver
+///   (the parity harness bounds refracted directions by 64 ulps, not bit for bit), and a
+///   glass sphere is a lens that magnifies such a difference where the image behind it has an
+///   edge, so a few pixels take the other side of it (measured with `cargo xtask diff` at 128
+///   px, 32 spp: glass 0.41 % of pixels, relMSE 1.8e-5). Under an environment map a flipped
+///   decision sends a path through another sequence of refractions (glass-bunny at 32x24:
+///   0.78 % of pixels, relMSE 2.9e-4). Bounds: 2 % and 1e-4 without a map, 8 % and 1e-3 with.
 fn bounds(features: &ggx_scene::SceneFeatures) -> (f64, f64) {
-    if features.env_map { (0.08, 2e-4) } else { (0.0, 1e-12) }
+    match (features.env_map, features.dielectrics) {
+        (true, true) => (0.08, 1e-3),
+        (true, false) => (0.08, 2e-4),
+        (false, true) => (0.02, 1e-4),
+        (false, false) => (0.0, 1e-12),
+    }
 }
 
 #[test]
@@ -140,7 +152,7 @@ fn generic_kernel_cancel_and_progress() {
     let specialized = renderer.render(&RenderOptions::default(), &control).expect("render");
     let generic =
         renderer.render(&RenderOptions { specialize: false, ..Default::default() }, &control).expect("render");
-    assert_eq!(generic.kernel, "area+env+plastic");
+    assert_eq!(generic.kernel, "area+env+plastic+dielectric");
     assert_ne!(specialized.kernel, generic.kernel);
     let bits = |r: &ggx_cpu::RenderResult| {
         r.film.mean().iter().flat_map(|v| v.to_array()).map(f32::to_bits).collect::<Vec<_>>()

@@ -1,4 +1,5 @@
-//! The parity input tables and ggx-core's expected outputs, one row per WGSL function.
+//! The parity input tables and ggx-core's expected outputs, one row per WGSL function; the rows
+//! of energy.wgsl are in `energy_cases.rs`.
 
 use bytemuck::{Pod, Zeroable};
 use ggx_core::fresnel::{FresnelParams, fresnel_complex, fresnel_dielectric, fresnel_schlick};
@@ -10,6 +11,9 @@ use ggx_core::{
 use glam::{Vec2, Vec3};
 
 use super::{Bound, Contract};
+
+#[path = "energy_cases.rs"]
+mod energy;
 
 /// One case, `ParityIn` in parity.wgsl.
 #[repr(C)]
@@ -1220,5 +1224,8 @@ pub(super) fn specs() -> Vec<Spec> {
         floats(&[sample.mis_pdf()])
     })
     .ieee();
+
+    // energy.wgsl
+    energy::energy_specs(&mut s);
     s.0
 }

@@ -1,7 +1,10 @@
-// parity.wgsl: runs one ggx_core.wgsl function (chosen by the pipeline constant FUNC) over a
-// table of inputs and writes its outputs as raw bits, 16 words per case. Appended to
-// ggx_core.wgsl. The Rust side (parity.rs) finds each function's id here by name: row
-// `name` runs `case F_NAME`.
+// parity.wgsl: runs one ggx_core.wgsl or energy.wgsl function (chosen by the pipeline constant
+// FUNC) over a table of inputs and writes its outputs as raw bits, 16 words per case. Appended to
+// ggx_core.wgsl and energy.wgsl, in that order. The Rust side (parity.rs) finds each function's id
+// here by name: row `name` runs `case F_NAME`. Each row's pipeline compiles this file with only
+// its own arm and `default` left in `switch FUNC` (parity.rs `row_source` cuts the others out by
+// their lines: an arm opens with `        case F_NAME: {` and closes with `        }`, eight
+// spaces in; comment lines between arms are dropped).
 
 // One case. Floats arrive as bits, so NaN, infinities and signed zeros survive the upload.
 struct ParityIn {
@@ -19,6 +22,14 @@ struct ParityIn {
 @group(0) @binding(2) var<storage, read_write> outputs: array<u32>;
 // One dielectric per case (zero for the other rows): the dielectric functions read it from here.
 @group(0) @binding(3) var<storage, read> dielectrics: array<GgxDielectric>;
+// ggx-core's energy-compensation tables concatenated as `scene_upload::energy_tables()` lists
+// them (energy.wgsl's ENERGY_* offsets), the same f32 values ggx-core reads.
+@group(0) @binding(4) var<storage, read> energy_values: array<f32>;
+
+// energy.wgsl's table accessor.
+fn energy_table(i: u32) -> f32 {
+    return energy_values[i];
+}
 
 override FUNC: u32;
 
@@ -93,6 +104,31 @@ const F_GGX_DIELECTRIC_PDF: u32 = 64u;
 const F_GGX_DIELECTRIC_SAMPLE: u32 = 65u;
 const F_GGX_DIELECTRIC_LAYOUT: u32 = 66u;
 const F_BSDF_SAMPLE_MIS_PDF: u32 = 67u;
+// energy.wgsl.
+const F_ENERGY_ALBEDO: u32 = 68u;
+const F_ENERGY_AVERAGE_ALBEDO: u32 = 69u;
+const F_MULTIPLE_SCATTERING_FRESNEL: u32 = 70u;
+const F_EFFECTIVE_ALPHA: u32 = 71u;
+const F_ALPHA_COORDINATE: u32 = 72u;
+const F_MU_COORDINATE: u32 = 73u;
+const F_GGX_CONDUCTOR_MS_IS_COMPENSATED: u32 = 74u;
+const F_GGX_CONDUCTOR_MS_FRESNEL: u32 = 75u;
+const F_GGX_CONDUCTOR_MS_EVAL_MS: u32 = 76u;
+const F_GGX_CONDUCTOR_MS_EVAL: u32 = 77u;
+const F_GGX_CONDUCTOR_MS_PROBABILITY: u32 = 78u;
+const F_GGX_CONDUCTOR_MS_PDF: u32 = 79u;
+const F_GGX_CONDUCTOR_MS_SAMPLE: u32 = 80u;
+const F_ETA_COORDINATE: u32 = 81u;
+const F_COAT_ALBEDO: u32 = 82u;
+const F_COAT_AVERAGE_ALBEDO: u32 = 83u;
+const F_PLASTIC_BASE_WEIGHT: u32 = 84u;
+const F_GGX_DIELECTRIC_MS_IS_COMPENSATED: u32 = 85u;
+const F_GGX_DIELECTRIC_MS_COMPENSATION_SCALE: u32 = 86u;
+const F_GGX_DIELECTRIC_MS_EVAL: u32 = 87u;
+const F_GGX_DIELECTRIC_MS_PDF: u32 = 88u;
+const F_GGX_DIELECTRIC_MS_SAMPLE: u32 = 89u;
+const F_THIN_DIELECTRIC_REFLECTANCE: u32 = 90u;
+const F_THIN_DIELECTRIC_SAMPLE: u32 = 91u;
 
 var<private> out_base: u32;
 
@@ -117,6 +153,25 @@ fn put_v3(k: u32, v: vec3<f32>) {
     put_f(k, v.x);
     put_f(k + 1u, v.y);
     put_f(k + 2u, v.z);
+}
+
+// A sample's words: valid, delta, wi, weight, pdf.
+fn put_sample(s: BsdfSample) {
+    put_u(0u, s.valid);
+    put_u(1u, s.is_delta);
+    put_v3(2u, s.wi);
+    put_v3(5u, s.weight);
+    put_f(8u, s.pdf);
+}
+
+// The compensated conductor of a case: the case's conductor, F_avg in c.xyz, compensation in m.x.
+fn conductor_ms(p: ParityIn, bsdf: GgxConductor) -> GgxConductorMs {
+    return GgxConductorMs(bsdf, p.c.xyz, p.m.x);
+}
+
+// The compensated dielectric of a case: the case's dielectric, compensation in m.x.
+fn dielectric_ms(p: ParityIn, dielectric: GgxDielectric) -> GgxDielectricMs {
+    return GgxDielectricMs(dielectric, p.m.x, array<u32, 3>(0u, 0u, 0u));
 }
 
 // Behaviour of builtins and arithmetic on special values; inputs come from the buffer so that
@@ -256,12 +311,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             put_f(0u, ggx_conductor_pdf(bsdf, p.a.xyz, p.b.xyz, p.n.x));
         }
         case F_GGX_CONDUCTOR_SAMPLE: {
-            let s = ggx_conductor_sample(bsdf, p.a.xyz, p.c.xy, p.n.x);
-            put_u(0u, s.valid);
-            put_u(1u, s.is_delta);
-            put_v3(2u, s.wi);
-            put_v3(5u, s.weight);
-            put_f(8u, s.pdf);
+            put_sample(ggx_conductor_sample(bsdf, p.a.xyz, p.c.xy, p.n.x));
         }
         case F_BALANCE_HEURISTIC: {
             put_f(0u, balance_heuristic(p.c.x, p.c.y, p.c.z, p.c.w));
@@ -398,12 +448,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
             put_f(0u, ggx_dielectric_pdf(dielectric, p.a.xyz, p.b.xyz, p.n.x, p.n.y));
         }
         case F_GGX_DIELECTRIC_SAMPLE: {
-            let s = ggx_dielectric_sample(dielectric, p.a.xyz, p.c.xy, p.c.z, p.n.x, p.n.y);
-            put_u(0u, s.valid);
-            put_u(1u, s.is_delta);
-            put_v3(2u, s.wi);
-            put_v3(5u, s.weight);
-            put_f(8u, s.pdf);
+            put_sample(ggx_dielectric_sample(dielectric, p.a.xyz, p.c.xy, p.c.z, p.n.x, p.n.y));
         }
         case F_GGX_DIELECTRIC_LAYOUT: {
             put_f(0u, dielectric.distribution.alpha_x);
@@ -413,6 +458,85 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         }
         case F_BSDF_SAMPLE_MIS_PDF: {
             put_f(0u, bsdf_sample_mis_pdf(BsdfSample(vec3(0.0), vec3(0.0), p.a.x, p.n.x, 1u)));
+        }
+        // energy.wgsl. Scalars in a (energy_albedo: mu, alpha; coat_albedo: mu, alpha, eta;
+        // plastic_base_weight: mu_o, mu_i, alpha, eta); the conductor MS rows read wo in a, wi in
+        // b (the sampler: u in b.xy, u_lobe in b.z), F_avg in c.xyz, sampling in n.x and
+        // compensation in m.x; the dielectric MS rows read wo, wi in a, b, u and u_lobe in c.xyz,
+        // sampling and mode in n.x, n.y and compensation in m.x; the thin sheet reads cos in c.x
+        // (the reflectance) or wo in a and u_lobe in c.z (the sampler), and eta in c.y.
+        case F_ENERGY_ALBEDO: {
+            put_f(0u, energy_albedo(p.a.x, p.a.y));
+        }
+        case F_ENERGY_AVERAGE_ALBEDO: {
+            put_f(0u, energy_average_albedo(p.a.x));
+        }
+        case F_MULTIPLE_SCATTERING_FRESNEL: {
+            put_v3(0u, multiple_scattering_fresnel(p.a.xyz, p.b.x));
+        }
+        case F_EFFECTIVE_ALPHA: {
+            put_f(0u, effective_alpha(dist));
+        }
+        case F_ALPHA_COORDINATE: {
+            put_f(0u, alpha_coordinate(p.a.x));
+        }
+        case F_MU_COORDINATE: {
+            put_f(0u, mu_coordinate(p.a.x));
+        }
+        case F_GGX_CONDUCTOR_MS_IS_COMPENSATED: {
+            put_b(0u, ggx_conductor_ms_is_compensated(conductor_ms(p, bsdf)));
+        }
+        case F_GGX_CONDUCTOR_MS_FRESNEL: {
+            put_v3(0u, ggx_conductor_ms_fresnel(conductor_ms(p, bsdf)));
+        }
+        case F_GGX_CONDUCTOR_MS_EVAL_MS: {
+            put_v3(0u, ggx_conductor_ms_eval_ms(conductor_ms(p, bsdf), p.a.xyz, p.b.xyz));
+        }
+        case F_GGX_CONDUCTOR_MS_EVAL: {
+            put_v3(0u, ggx_conductor_ms_eval(conductor_ms(p, bsdf), p.a.xyz, p.b.xyz));
+        }
+        case F_GGX_CONDUCTOR_MS_PROBABILITY: {
+            put_f(0u, ggx_conductor_ms_probability(conductor_ms(p, bsdf), p.a.xyz));
+        }
+        case F_GGX_CONDUCTOR_MS_PDF: {
+            put_f(0u, ggx_conductor_ms_pdf(conductor_ms(p, bsdf), p.a.xyz, p.b.xyz, p.n.x));
+        }
+        case F_GGX_CONDUCTOR_MS_SAMPLE: {
+            put_sample(ggx_conductor_ms_sample(conductor_ms(p, bsdf), p.a.xyz, p.b.xy, p.b.z, p.n.x));
+        }
+        case F_ETA_COORDINATE: {
+            put_f(0u, eta_coordinate(p.a.x));
+        }
+        case F_COAT_ALBEDO: {
+            put_f(0u, coat_albedo(p.a.x, p.a.y, p.a.z));
+        }
+        case F_COAT_AVERAGE_ALBEDO: {
+            put_f(0u, coat_average_albedo(p.a.x, p.a.y));
+        }
+        case F_PLASTIC_BASE_WEIGHT: {
+            put_f(0u, plastic_base_weight(p.a.x, p.a.y, p.a.z, p.a.w));
+        }
+        case F_GGX_DIELECTRIC_MS_IS_COMPENSATED: {
+            put_b(0u, ggx_dielectric_ms_is_compensated(dielectric_ms(p, dielectric)));
+        }
+        case F_GGX_DIELECTRIC_MS_COMPENSATION_SCALE: {
+            put_f(0u, ggx_dielectric_ms_compensation_scale(dielectric_ms(p, dielectric), p.a.xyz));
+        }
+        case F_GGX_DIELECTRIC_MS_EVAL: {
+            put_v3(0u, ggx_dielectric_ms_eval(dielectric_ms(p, dielectric), p.a.xyz, p.b.xyz, p.n.y));
+        }
+        case F_GGX_DIELECTRIC_MS_PDF: {
+            put_f(0u, ggx_dielectric_ms_pdf(dielectric_ms(p, dielectric), p.a.xyz, p.b.xyz, p.n.x, p.n.y));
+        }
+        case F_GGX_DIELECTRIC_MS_SAMPLE: {
+            let b = dielectric_ms(p, dielectric);
+            put_sample(ggx_dielectric_ms_sample(b, p.a.xyz, p.c.xy, p.c.z, p.n.x, p.n.y));
+        }
+        case F_THIN_DIELECTRIC_REFLECTANCE: {
+            put_f(0u, thin_dielectric_reflectance(p.c.y, p.c.x));
+        }
+        case F_THIN_DIELECTRIC_SAMPLE: {
+            put_sample(thin_dielectric_sample(p.c.y, p.a.xyz, p.c.z));
         }
         case F_PROBE: {
             probe(p);

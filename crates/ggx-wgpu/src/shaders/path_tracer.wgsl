@@ -5,14 +5,19 @@
 override AREA: bool = true;
 override ENV: bool = true;
 override PLASTIC: bool = true;
+override DIELECTRIC: bool = true;
 
 const MAT_DIFFUSE: u32 = 0u;
 const MAT_CONDUCTOR: u32 = 1u;
 const MAT_PLASTIC: u32 = 2u;
 const MAT_BLACK: u32 = 3u;
+const MAT_DIELECTRIC: u32 = 4u;
+const MAT_THIN: u32 = 5u;
 const LIGHT_BSDF: u32 = 0u;
 const LIGHT_MIS: u32 = 2u;
 const SHADOW_SCALE: f32 = 1.0f - 1e-3f;
+// TransportMode::Radiance.
+const MODE_RADIANCE: u32 = 0u;
 
 // Rec. 709 luminance: 0.2126 R + 0.7152 G + 0.0722 B, in glam's dot order.
 fn luminance(c: vec3<f32>) -> f32 {
@@ -28,17 +33,43 @@ fn coat_probability(fo: f32, albedo: vec3<f32>) -> f32 {
     return min_num(max_num(fo / (fo + base), 0.05f), 0.95f);
 }
 
-// Bsdf::eval: f(wo, wi) |wi.z|; plastic f = f_coat + (1 - F(wo.z)) (1 - F(wi.z)) albedo / pi.
+// The conductor record as ggx-core's GgxConductorMs.
+fn material_conductor_ms(m: Material) -> GgxConductorMs {
+    return GgxConductorMs(m.conductor, m.extra, m.compensation);
+}
+
+// The dielectric record as ggx-core's GgxDielectricMs.
+fn material_dielectric_ms(m: Material) -> GgxDielectricMs {
+    return GgxDielectricMs(GgxDielectric(m.conductor.distribution, m.ior, 0u), m.compensation, array<u32, 3>(0u, 0u, 0u));
+}
+
+// Bsdf::base_weight: plastic_base_weight with compensation, else (1 - F(mu_o)) (1 - F(mu_i)).
+fn plastic_weight(m: Material, mu_o: f32, mu_i: f32) -> f32 {
+    if m.compensation != 0u {
+        return plastic_base_weight(mu_o, mu_i, m.conductor.distribution.alpha_x, m.ior);
+    }
+    return (1.0 - fresnel_dielectric(mu_o, m.ior)) * (1.0 - fresnel_dielectric(mu_i, m.ior));
+}
+
+// The transmittance tint where a dielectric sample crosses the surface, else 1.
+fn transmission_tint(m: Material, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
+    return select(vec3(1.0), m.albedo, wo.z * wi.z < 0.0);
+}
+
+// Bsdf::eval: f(wo, wi) |wi.z|; plastic f = f_coat + w(wo, wi) albedo / pi; dielectric both sides, tinted transmission.
 fn bsdf_eval(m: Material, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
+    if DIELECTRIC && m.kind == MAT_DIELECTRIC {
+        return ggx_dielectric_ms_eval(material_dielectric_ms(m), wo, wi, MODE_RADIANCE) * transmission_tint(m, wo, wi);
+    }
     if wo.z <= 0.0 || wi.z <= 0.0 {
         return vec3(0.0);
     }
     if m.kind == MAT_DIFFUSE {
         return m.albedo * (wi.z * FRAC_1_PI);
     } else if m.kind == MAT_CONDUCTOR {
-        return ggx_conductor_eval(m.conductor, wo, wi);
+        return ggx_conductor_ms_eval(material_conductor_ms(m), wo, wi);
     } else if PLASTIC && m.kind == MAT_PLASTIC {
-        let t = (1.0 - fresnel_dielectric(wo.z, m.ior)) * (1.0 - fresnel_dielectric(wi.z, m.ior));
+        let t = plastic_weight(m, wo.z, wi.z);
         return ggx_conductor_eval(m.conductor, wo, wi) + m.albedo * (t * wi.z * FRAC_1_PI);
     }
     return vec3(0.0);
@@ -46,13 +77,16 @@ fn bsdf_eval(m: Material, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
 
 // Bsdf::pdf: solid-angle density of bsdf_sample; plastic p pdf_coat + (1 - p) pdf_cosine.
 fn bsdf_pdf(m: Material, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
+    if DIELECTRIC && m.kind == MAT_DIELECTRIC {
+        return ggx_dielectric_ms_pdf(material_dielectric_ms(m), wo, wi, m.sampling, MODE_RADIANCE);
+    }
     if wo.z <= 0.0 || wi.z <= 0.0 {
         return 0.0;
     }
     if m.kind == MAT_DIFFUSE {
         return pdf_cosine_hemisphere(wi);
     } else if m.kind == MAT_CONDUCTOR {
-        return ggx_conductor_pdf(m.conductor, wo, wi, m.sampling);
+        return ggx_conductor_ms_pdf(material_conductor_ms(m), wo, wi, m.sampling);
     } else if PLASTIC && m.kind == MAT_PLASTIC {
         let p = coat_probability(fresnel_dielectric(wo.z, m.ior), m.albedo);
         return p * ggx_conductor_pdf(m.conductor, wo, wi, m.sampling) + (1.0 - p) * pdf_cosine_hemisphere(wi);
@@ -60,9 +94,20 @@ fn bsdf_pdf(m: Material, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
     return 0.0;
 }
 
-// Bsdf::sample: cosine lobe, GGX conductor, or the plastic's one-sample mixture (weight = eval / mixture pdf).
+// Bsdf::sample: cosine lobe, compensated conductor, the plastic's one-sample mixture (weight = eval / mixture pdf),
+// dielectric or thin sheet (tinted transmission).
 fn bsdf_sample(m: Material, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> BsdfSample {
     var none: BsdfSample;
+    if DIELECTRIC && m.kind == MAT_DIELECTRIC {
+        var s = ggx_dielectric_ms_sample(material_dielectric_ms(m), wo, u, u_lobe, m.sampling, MODE_RADIANCE);
+        s.weight *= transmission_tint(m, wo, s.wi);
+        return s;
+    }
+    if DIELECTRIC && m.kind == MAT_THIN {
+        var s = thin_dielectric_sample(m.ior, wo, u_lobe);
+        s.weight *= transmission_tint(m, wo, s.wi);
+        return s;
+    }
     if wo.z <= 0.0 {
         return none;
     }
@@ -70,7 +115,7 @@ fn bsdf_sample(m: Material, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> BsdfSam
         let wi = sample_cosine_hemisphere(u);
         return BsdfSample(wi, m.albedo, pdf_cosine_hemisphere(wi), 0u, 1u);
     } else if m.kind == MAT_CONDUCTOR {
-        return ggx_conductor_sample(m.conductor, wo, u, m.sampling);
+        return ggx_conductor_ms_sample(material_conductor_ms(m), wo, u, u_lobe, m.sampling);
     } else if PLASTIC && m.kind == MAT_PLASTIC {
         let p = coat_probability(fresnel_dielectric(wo.z, m.ior), m.albedo);
         var wi: vec3<f32>;
@@ -95,9 +140,60 @@ fn bsdf_sample(m: Material, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> BsdfSam
     return none;
 }
 
-// Bsdf::is_delta: a mirror conductor.
+// Bsdf::is_delta: a mirror conductor, a smooth dielectric, a thin sheet.
 fn bsdf_is_delta(m: Material) -> bool {
-    return m.kind == MAT_CONDUCTOR && ggx_conductor_is_delta(m.conductor);
+    if m.kind == MAT_CONDUCTOR {
+        return ggx_conductor_is_delta(m.conductor);
+    }
+    if m.kind == MAT_DIELECTRIC {
+        return is_effectively_smooth(m.conductor.distribution);
+    }
+    return m.kind == MAT_THIN;
+}
+
+// Bsdf::transmits: a dielectric or a thin sheet.
+fn bsdf_transmits(m: Material) -> bool {
+    return m.kind == MAT_DIELECTRIC || m.kind == MAT_THIN;
+}
+
+// f32::signum: 1 for +0 and positives, -1 for -0 and negatives.
+fn signum(x: f32) -> f32 {
+    return copysign(1.0, x);
+}
+
+// Bsdf::radiance_scale_inverse: eta'^2 for a transmission through a dielectric with an inside, else 1.
+fn radiance_scale_inverse(m: Material, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
+    if m.kind == MAT_DIELECTRIC && wo.z * wi.z < 0.0 {
+        let eta = clamp_eta(m.ior);
+        return select(1.0 / (eta * eta), eta * eta, wo.z > 0.0);
+    }
+    return 1.0;
+}
+
+// integrator.rs `sides_agree`: wi and wi_world on the same side of ng; +z only for materials that do not transmit.
+fn sides_agree(wi: vec3<f32>, wi_world: vec3<f32>, ng: vec3<f32>, transmits: bool) -> bool {
+    let side = dot3(wi_world, ng);
+    if transmits {
+        return side * wi.z > 0.0;
+    }
+    return wi.z > 0.0 && side > 0.0;
+}
+
+// integrator.rs `transmittance`: exp(-sigma t) per channel, 1 where sigma <= 0.
+fn medium_transmittance(sigma: vec3<f32>, t: f32) -> vec3<f32> {
+    return vec3(
+        select(1.0, exp(-sigma.x * t), sigma.x > 0.0),
+        select(1.0, exp(-sigma.y * t), sigma.y > 0.0),
+        select(1.0, exp(-sigma.z * t), sigma.z > 0.0),
+    );
+}
+
+// integrator.rs `segment_medium`: a dielectric's absorption inside (wi.z < 0), vacuum outside; others keep `current`.
+fn segment_medium(m: Material, current: vec3<f32>, wi_z: f32) -> vec3<f32> {
+    if m.kind != MAT_DIELECTRIC {
+        return current;
+    }
+    return select(vec3(0.0), m.extra, wi_z < 0.0);
 }
 
 // Shading frame with x = normalize(y_world x n) along latitude circles; Duff et al. 2017 within ~0.5 degrees of the poles.
@@ -172,10 +268,22 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
     // BsdfSample::mis_pdf of the sample that produced dir; the camera ray counts as a delta.
     var prev_pdf = inf_f32();
     var depth = 0u;
+    // Absorption coefficient of the medium the ray travels in (zero: vacuum).
+    var sigma = vec3(0.0);
+    // Product of eta'^2 over the transmissions so far, for Russian roulette (pbrt-v4's etaScale).
+    var eta_scale = 1.0f;
     loop {
         *rays += 1u;
         var ray = make_ray(origin, dir, inf_f32());
         let prim = traverse(&ray, false);
+        if DIELECTRIC && any(sigma != vec3(0.0)) {
+            if prim == NO_INDEX {
+                // Escaping an open mesh from inside: an infinite medium.
+                beta *= medium_transmittance(sigma, inf_f32());
+            } else {
+                beta *= medium_transmittance(sigma, ray.tmax);
+            }
+        }
         if prim == NO_INDEX {
             if has_env {
                 let le = env_radiance(dir);
@@ -211,7 +319,7 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
                 radiance += beta * m.emission * w;
             }
         }
-        if !PLASTIC && m.kind == MAT_PLASTIC {
+        if (!PLASTIC && m.kind == MAT_PLASTIC) || (!DIELECTRIC && bsdf_transmits(m)) {
             break;
         }
         if depth >= params.max_depth || m.kind == MAT_BLACK {
@@ -220,7 +328,9 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
         let roulette = params.roulette_depth > 0u && depth + 1u >= params.roulette_depth;
         let s = draw_bounce(stream, params.draw_lobe != 0u, draw_light, draw_pick, roulette);
 
-        if dot3(ng, dir) > 0.0 {
+        // Frame toward the arriving ray for two-sided materials, around the outward normal for a dielectric.
+        let inside = DIELECTRIC && m.kind == MAT_DIELECTRIC;
+        if !inside && dot3(ng, dir) > 0.0 {
             ng = -ng;
         }
         var ns = ng;
@@ -231,10 +341,11 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
         }
         let frame = shading_frame(ns);
         let wo = frame_to_local(frame, -dir);
-        if wo.z <= 0.0 {
+        if !(wo.z * -dot3(ng, dir) > 0.0) {
             break;
         }
-        let p_out = offset_ray_origin(p, ng);
+        let p_out = offset_ray_origin(p, select(-ng, ng, wo.z > 0.0));
+        let transmits = DIELECTRIC && bsdf_transmits(m);
 
         if use_nee && !bsdf_is_delta(m) {
             let pick_area = has_area && s.pick < p_area;
@@ -243,24 +354,32 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
                 let e = sample_emitter(u_emitter);
                 let light_tri = triangles[emitters[e].triangle];
                 let pl = sample_triangle(light_tri, s.light);
-                let to_light = pl - p_out;
+                var shadow_origin = p_out;
+                if transmits {
+                    shadow_origin = offset_ray_origin(p, ng * signum(dot3(pl - p, ng)));
+                }
+                let to_light = pl - shadow_origin;
                 let dist2 = dot3(to_light, to_light);
                 let dist = sqrt(dist2);
                 let wi_world = to_light / dist;
                 let cos_l = -dot3(geometric_normal(light_tri), wi_world);
                 let wi = frame_to_local(frame, wi_world);
-                if cos_l > 0.0 && wi.z > 0.0 && dot3(wi_world, ng) > 0.0 && dist > 0.0 {
+                if cos_l > 0.0 && sides_agree(wi, wi_world, ng, transmits) && dist > 0.0 {
                     let pdf_light = p_area * pdf_area(e) * dist2 / cos_l;
                     let f = bsdf_eval(m, wo, wi);
                     if any(f != vec3(0.0)) && pdf_light > 0.0 && is_finite(pdf_light) {
                         *rays += 1u;
-                        if unoccluded(p_out, wi_world, dist * SHADOW_SCALE) {
+                        if unoccluded(shadow_origin, wi_world, dist * SHADOW_SCALE) {
                             let le = materials[light_tri.material].emission;
                             var w = 1.0f;
                             if use_mis {
                                 w = power_heuristic(1.0, pdf_light, 1.0, bsdf_pdf(m, wo, wi));
                             }
-                            radiance += beta * f * le * (w / pdf_light);
+                            var tr = vec3(1.0);
+                            if DIELECTRIC {
+                                tr = medium_transmittance(segment_medium(m, sigma, wi.z), dist);
+                            }
+                            radiance += beta * f * tr * le * (w / pdf_light);
                         }
                     }
                 }
@@ -269,11 +388,16 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
                 let wi_world = sample.xyz;
                 let pdf_light = p_env * sample.w;
                 let wi = frame_to_local(frame, wi_world);
-                if wi.z > 0.0 && dot3(wi_world, ng) > 0.0 && pdf_light > 0.0 && is_finite(pdf_light) {
+                if sides_agree(wi, wi_world, ng, transmits) && pdf_light > 0.0 && is_finite(pdf_light) {
                     let f = bsdf_eval(m, wo, wi);
                     if any(f != vec3(0.0)) {
                         *rays += 1u;
-                        if unoccluded(p_out, wi_world, inf_f32()) {
+                        var shadow_origin = p_out;
+                        if transmits {
+                            shadow_origin = offset_ray_origin(p, ng * signum(wi.z));
+                        }
+                        let absorbed = DIELECTRIC && any(segment_medium(m, sigma, wi.z) != vec3(0.0));
+                        if !absorbed && unoccluded(shadow_origin, wi_world, inf_f32()) {
                             var w = 1.0f;
                             if use_mis {
                                 w = power_heuristic(1.0, pdf_light, 1.0, bsdf_pdf(m, wo, wi));
@@ -290,17 +414,24 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
             break;
         }
         let wi_world = frame_to_world(frame, bs.wi);
-        if dot3(wi_world, ng) <= 0.0 {
+        if !sides_agree(bs.wi, wi_world, ng, transmits) {
             break;
         }
         beta *= bs.weight;
         prev_pdf = bsdf_sample_mis_pdf(bs);
-        origin = p_out;
+        if transmits {
+            origin = offset_ray_origin(p, ng * signum(bs.wi.z));
+            sigma = segment_medium(m, sigma, bs.wi.z);
+            eta_scale *= radiance_scale_inverse(m, wo, bs.wi);
+        } else {
+            origin = p_out;
+        }
         dir = wi_world;
         depth += 1u;
 
         if params.roulette_depth > 0u && depth >= params.roulette_depth {
-            let mx = max_num(beta.x, max_num(beta.y, beta.z));
+            let rr = beta * eta_scale;
+            let mx = max_num(rr.x, max_num(rr.y, rr.z));
             if mx < 1.0 {
                 let q = max_num(1.0 - mx, 0.0);
                 if s.roulette < q {

@@ -43,7 +43,7 @@ struct Params {
     env_marginal_cdf: u32,
     env_texels: u32,
     env_marginal_integral: f32,
-    pad0: u32,
+    energy_tables: u32,
     pad1: u32,
 }
 
@@ -73,7 +73,9 @@ struct Material {
     kind: u32,
     emission: vec3<f32>,
     ior: f32,
+    extra: vec3<f32>,
     sampling: u32,
+    compensation: u32,
     pad0: u32,
     pad1: u32,
     pad2: u32,
@@ -106,6 +108,11 @@ struct Ray {
 @group(0) @binding(5) var<storage, read> emitters: array<Emitter>;
 @group(0) @binding(6) var<storage, read> table: array<f32>;
 @group(0) @binding(7) var<storage, read_write> output: array<vec4<f32>>;
+
+// energy.wgsl's table accessor: ggx-core's energy tables, appended to `table` at params.energy_tables.
+fn energy_table(i: u32) -> f32 {
+    return table[params.energy_tables + i];
+}
 
 // glam's normalize_or_zero: v (1 / |v|) when that is finite and positive, else 0.
 fn glam_normalize_or_zero(v: vec3<f32>) -> vec3<f32> {
