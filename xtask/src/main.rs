@@ -1,9 +1,10 @@
 //! `cargo xtask <command>`: project automation in Rust, so it runs wherever cargo runs
 //! (the rust-analyzer convention). Commands:
 //!
-//! * `ci`: everything CI checks, in order, stopping at the first failure: rustfmt, clippy
-//!   with `-D warnings`, the `no_std` build proof, the whole test suite, then `stress --quick`,
-//!   `diff --quick` and `bench --quick`.
+//! * `ci`: everything CI checks, in order, stopping at the first failure: a Vulkan driver
+//!   (lavapipe is installed with apt-get where none is, see [`system`]), rustfmt, clippy with
+//!   `-D warnings`, the `no_std` build proof, the whole test suite under `CI=true` (GPU tests
+//!   fail without an adapter), then `stress --quick`, `diff --quick` and `bench --quick`.
 //! * `diff [SCENES...]`: every scene rendered on the CPU and wgpu backends with the same seed,
 //!   compared against per-scene tolerances (see [`diff`]).
 //! * `bench`: run time against error, the convergence study (see [`bench`]).
@@ -19,6 +20,7 @@ mod diff;
 mod fuzz;
 mod render;
 mod stress;
+mod system;
 mod tables;
 mod tables_dielectric;
 
@@ -83,11 +85,18 @@ fn main() -> ExitCode {
 
 /// Runs `cargo <args>` and fails with the command line if it fails.
 fn cargo(args: &[&str]) -> Result<(), String> {
+    cargo_with(args, &[])
+}
+
+/// Runs `cargo <args>` with the environment variables `env` set.
+fn cargo_with(args: &[&str], env: &[(&str, &str)]) -> Result<(), String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    let line = format!("cargo {}", args.join(" "));
+    let vars: Vec<String> = env.iter().map(|(k, v)| format!("{k}={v} ")).collect();
+    let line = format!("{}cargo {}", vars.concat(), args.join(" "));
     eprintln!("\n==> {line}");
     let start = Instant::now();
-    let status = Command::new(cargo).args(args).status().map_err(|e| format!("{line}: {e}"))?;
+    let status =
+        Command::new(cargo).args(args).envs(env.iter().copied()).status().map_err(|e| format!("{line}: {e}"))?;
     eprintln!("<== {line}: {:.1} s", start.elapsed().as_secs_f64());
     if status.success() { Ok(()) } else { Err(format!("`{line}` failed ({status})")) }
 }
@@ -103,13 +112,16 @@ fn in_process(what: &str, f: impl FnOnce() -> Result<(), String>) -> Result<(), 
 
 fn ci() -> Result<(), String> {
     let start = Instant::now();
+    // The GPU tests need a Vulkan adapter: install lavapipe where none is, before anything runs.
+    system::ensure_vulkan()?;
     cargo(&["fmt", "--all", "--check"])?;
     cargo(&["clippy", "--workspace", "--all-targets", "--exclude", NOSTD_CHECK, "--", "-D", "warnings"])?;
     // no_std proofs: the core without default features, and a #![no_std] consumer that
     // defines its own panic handler (a duplicate lang item error if std were linked).
     cargo(&["build", "-p", "ggx-core", "--no-default-features"])?;
     cargo(&["clippy", "-p", NOSTD_CHECK, "--", "-D", "warnings"])?;
-    cargo(&["test", "--workspace", "--exclude", NOSTD_CHECK])?;
+    // CI=true: a GPU test without an adapter fails instead of skipping.
+    cargo_with(&["test", "--workspace", "--exclude", NOSTD_CHECK], &[("CI", "true")])?;
     // In process rather than through cargo: xtask is built already, so nothing else compiles.
     eprintln!("\n==> stress --quick (in process)");
     let stress_start = Instant::now();

@@ -62,19 +62,27 @@ fn describe(scene: &Scene) -> String {
     let materials: Vec<String> =
         scene.material_names.iter().zip(&scene.materials).map(|(n, m)| format!("{n} ({})", material_kind(m))).collect();
     line("materials", format!("{}: {}", stats.materials, materials.join(", ")));
-    line("lights", format!("{} ({} emitting triangles, area {:.4})", stats.lights, stats.emitters, stats.light_area));
+    line(
+        "lights",
+        format!("{} ({} emitting triangles, area {})", stats.lights, stats.emitters, fixed(stats.light_area, 4)),
+    );
     line("environment", environment(scene.environment.as_ref()));
     line("features", scene.features.summary());
     let i = &scene.integrator;
     line(
         "integrator",
         format!(
-            "{} spp, time budget {}, max depth {}, russian roulette {}, seed {}",
+            "{} spp, time budget {}, max depth {}, russian roulette {}, seed {}, energy compensation {}",
             i.spp,
             i.time_budget.map_or("none".to_owned(), |t| format!("{t} s")),
             i.max_depth,
             if i.russian_roulette == 0 { "off".to_owned() } else { format!("from depth {}", i.russian_roulette) },
             i.seed,
+            match i.energy_compensation {
+                Some(true) => "on",
+                Some(false) => "off",
+                None => "per material",
+            },
         ),
     );
     line(
@@ -102,7 +110,17 @@ fn describe(scene: &Scene) -> String {
 }
 
 fn vec3([x, y, z]: [f32; 3]) -> String {
-    format!("[{x:.3}, {y:.3}, {z:.3}]")
+    format!("[{}, {}, {}]", fixed(x, 3), fixed(y, 3), fixed(z, 3))
+}
+
+/// `x` with `decimals` digits after the point, without the sign of a value that rounds to
+/// zero (`-0.0000` reads as a bug; -1e-8 and -0.0 print as `0.000`).
+fn fixed(x: f32, decimals: usize) -> String {
+    let s = format!("{x:.decimals$}");
+    match s.strip_prefix('-') {
+        Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_owned(),
+        _ => s,
+    }
 }
 
 fn environment(env: Option<&Environment>) -> String {
@@ -166,5 +184,20 @@ mod tests {
         assert!(d.contains("materials:   1: w (diffuse)"), "{d}");
         assert!(d.contains("camera:      64x32, fov_y 40°"), "{d}");
         assert!(d.contains("sampler sobol, bsdf sampling vndf, light strategy mis"), "{d}");
+        assert!(d.contains("energy compensation per material"), "{d}");
+        // The camera looks down -z from +z: forward is (0, 0, -1), printed without -0.000.
+        assert!(d.contains("forward [0.000, 0.000, -1.000]"), "{d}");
+        assert!(!d.contains("-0.0"), "{d}");
+    }
+
+    #[test]
+    fn values_that_round_to_zero_lose_their_sign() {
+        assert_eq!(fixed(-0.0, 4), "0.0000");
+        assert_eq!(fixed(-1e-8, 3), "0.000");
+        assert_eq!(fixed(-0.0004, 3), "0.000");
+        assert_eq!(fixed(-0.0006, 3), "-0.001");
+        assert_eq!(fixed(2.5, 1), "2.5");
+        assert_eq!(fixed(-2.0, 0), "-2");
+        assert_eq!(vec3([-0.0, 1e-9, -1e-9]), "[0.000, 0.000, 0.000]");
     }
 }

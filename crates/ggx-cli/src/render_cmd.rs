@@ -34,6 +34,9 @@ pub fn run(args: &RenderArgs) -> Result<Outcome> {
     let inputs: Vec<&std::path::Path> = scene.inputs.iter().map(PathBuf::as_path).collect();
     output::check_not_input(&args.output, &inputs)?;
     memory::check(&scene, &limits)?;
+    for warning in scene.warnings() {
+        eprintln!("warning: {warning}");
+    }
 
     let result = match device {
         Device::Cpu => render_cpu(&scene, args, bar, &interrupt)?,

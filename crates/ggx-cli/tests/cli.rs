@@ -196,3 +196,20 @@ fn time_budget_stops_before_the_requested_spp() {
     let (w, h, _) = ggx_film::read_exr(&path).unwrap();
     assert_eq!((w, h), (256, 256));
 }
+
+/// A scene without shapes renders (the environment) but says so on stderr.
+#[test]
+fn an_empty_scene_renders_with_a_warning() {
+    let dir = TempDir::new("empty");
+    let file = dir.path().join("empty.toml");
+    let text = "[camera]\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\nresolution = [8, 4]\n\
+                [environment]\ntype = \"constant\"\nradiance = [0.5, 0.5, 0.5]\n";
+    std::fs::write(&file, text).unwrap();
+    let out = ggx(&["render", file.to_str().unwrap(), "-o", dir.path().join("e.exr").to_str().unwrap(), "--spp", "1"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("warning: ") && stderr.contains("has no shapes: the image shows only the environment"),
+        "{stderr}"
+    );
+}

@@ -57,6 +57,24 @@ impl Scene {
         }
     }
 
+    /// What is legal but probably not meant, one sentence each (the CLI prints them as
+    /// warnings before rendering): a scene without shapes, and a scene where nothing emits
+    /// light (no emissive shape, no environment), whose image is black.
+    pub fn warnings(&self) -> Vec<String> {
+        let source = self.source.display();
+        let mut out = Vec::new();
+        let lit = !self.lights.is_empty() || self.environment.is_some();
+        if self.shape_count == 0 {
+            let shows = if lit { "only the environment" } else { "nothing: it is black" };
+            out.push(format!("{source} has no shapes: the image shows {shows}"));
+        } else if !lit {
+            out.push(format!(
+                "{source}: nothing emits light (no emissive shape, no [environment]): the image is black"
+            ));
+        }
+        out
+    }
+
     /// Turns energy compensation on or off for every material (the command line's
     /// `--energy-compensation`, like `integrator.energy_compensation` in the file).
     pub fn set_energy_compensation(&mut self, on: bool) {

@@ -166,3 +166,32 @@ fn stats_and_summary() {
     assert!(stats.to_string().contains("triangles: 15372 (15360 with shading normals)"));
     assert_eq!(s.features.summary(), "area_lights, diffuse, conductors, shading_normals");
 }
+
+#[test]
+fn empty_and_unlit_scenes_are_warned_about() {
+    let parse = |text: &str| ggx_scene::parse_scene(text, "w.toml", std::path::Path::new(".")).unwrap();
+    let camera = "[camera]\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\n";
+    let env = "[environment]\ntype = \"constant\"\nradiance = [1, 1, 1]\n";
+    let shape = "[materials.w]\ntype = \"diffuse\"\nalbedo = [0.5, 0.5, 0.5]\n[[shapes]]\ntype = \"sphere\"\nmaterial = \"w\"\n";
+    assert_eq!(parse(camera).warnings(), ["w.toml has no shapes: the image shows nothing: it is black"]);
+    assert_eq!(
+        parse(&format!("{camera}{env}")).warnings(),
+        ["w.toml has no shapes: the image shows only the environment"]
+    );
+    let unlit = parse(&format!("{camera}{shape}")).warnings();
+    assert_eq!(unlit.len(), 1);
+    assert!(unlit[0].contains("nothing emits light") && unlit[0].contains("black"), "{unlit:?}");
+    assert!(parse(&format!("{camera}{env}{shape}")).warnings().is_empty());
+    assert!(load("cornell.toml").warnings().is_empty() && load("furnace.toml").warnings().is_empty());
+}
+
+/// The complete scene file in the workspace README parses, and is lit.
+#[test]
+fn the_readme_scene_file_is_valid() {
+    let readme = std::fs::read_to_string(scenes_dir().join("../README.md")).unwrap();
+    let after = &readme[readme.find("A complete scene file").expect("README has the example")..];
+    let start = after.find("```toml\n").expect("a toml block") + "```toml\n".len();
+    let text = &after[start..start + after[start..].find("```").expect("closed block")];
+    let s = ggx_scene::parse_scene(text, "README.md", std::path::Path::new(".")).unwrap_or_else(|e| panic!("{e}"));
+    assert!(s.features.dielectrics && s.features.constant_env && s.warnings().is_empty());
+}

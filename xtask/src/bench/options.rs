@@ -17,7 +17,7 @@ VNDF sampling side by side, with firefly counts.
 
   --quick        the CI-sized run (three-spheres, width 32, ladder to 16 spp, reference 256 spp,
                  wgpu ladder to 4 spp, bunny comparison 64 px wide at 64 spp); checks fail the run
-  --scenes a,b   scenes by name or path (default: three-spheres,cornell,bunny; --quick: three-spheres)
+  --scenes a,b   scenes by name or path (default: three-spheres,cornell,bunny,glass; --quick: three-spheres)
   --width W      image width in pixels, height from the scene's aspect (default 128; --quick: 32)
   --max-spp N    top of the spp ladder, powers of two up to N (default 256; --quick: 16); the wgpu
                  ladder stops at min(N, 32) (--quick: min(N, 4)): lavapipe is ~25x slower than the CPU
@@ -40,9 +40,11 @@ struct Preset {
     compare_spp: u32,
 }
 
-/// The full run, sized for the README figures (about 10 minutes on 2 cores).
+/// The full run, sized for the README figures (about 15 minutes on 2 cores). `glass` compares
+/// the samplers on transmission (cosine and uniform fall back to VNDF there, bounded VNDF to
+/// spherical caps).
 const FULL: Preset = Preset {
-    scenes: &["three-spheres", "cornell", "bunny"],
+    scenes: &["three-spheres", "cornell", "bunny", "glass"],
     width: 128,
     max_spp: 256,
     ref_spp: 4096,
@@ -215,7 +217,7 @@ mod tests {
     #[test]
     fn defaults() {
         let full = options(&[]);
-        assert_eq!(full.scenes, ["three-spheres", "cornell", "bunny"]);
+        assert_eq!(full.scenes, ["three-spheres", "cornell", "bunny", "glass"]);
         assert_eq!((full.width, full.max_spp, full.wgpu_max_spp, full.ref_spp), (128, 256, 32, 4096));
         assert_eq!((full.compare_width, full.compare_spp), (160, 512));
         assert!(full.wgpu && !full.quick && full.out.is_none());

@@ -1,0 +1,78 @@
+//! What `cargo xtask ci` needs from the system besides Rust: a Vulkan adapter for the GPU
+//! tests. Where none is installed, Mesa's software driver (lavapipe) is installed with
+//! apt-get, as `.ci/run` does, so the README's test command works on a fresh Debian or
+//! Ubuntu machine by itself; the GPU tests are never skipped (`CI=true`).
+
+use std::path::Path;
+use std::process::Command;
+
+/// Where Vulkan loaders look for installable client drivers (ICDs).
+const ICD_DIRS: [&str; 3] = ["/usr/share/vulkan/icd.d", "/etc/vulkan/icd.d", "/usr/local/share/vulkan/icd.d"];
+
+/// The Debian packages of lavapipe and the Vulkan loader.
+const PACKAGES: [&str; 2] = ["mesa-vulkan-drivers", "libvulkan1"];
+
+/// True when some Vulkan driver manifest (`*.json`) is installed in `dirs` and the loader
+/// `libvulkan.so.1` is found by `ldconfig` (or `VK_ICD_FILENAMES` names a driver).
+pub fn vulkan_present(dirs: &[&Path], loader_listing: &str) -> bool {
+    let icd = std::env::var_os("VK_ICD_FILENAMES").is_some_and(|v| !v.is_empty())
+        || dirs.iter().any(|d| {
+            std::fs::read_dir(d)
+                .is_ok_and(|entries| entries.flatten().any(|e| e.path().extension().is_some_and(|x| x == "json")))
+        });
+    icd && loader_listing.contains("libvulkan.so.1")
+}
+
+/// Installs lavapipe where no Vulkan driver is present (apt-get, through sudo when not
+/// root); an error says what to install by hand where that is impossible.
+pub fn ensure_vulkan() -> Result<(), String> {
+    let listing = Command::new("ldconfig")
+        .arg("-p")
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
+        .unwrap_or_default();
+    let dirs: Vec<&Path> = ICD_DIRS.iter().map(Path::new).collect();
+    if vulkan_present(&dirs, &listing) {
+        return Ok(());
+    }
+    let manual = format!("install a Vulkan driver, e.g. `apt-get install -y {}`", PACKAGES.join(" "));
+    if Command::new("apt-get").arg("--version").output().is_err() {
+        return Err(format!("no Vulkan driver found and no apt-get to install one: {manual}"));
+    }
+    let root = Command::new("id").arg("-u").output().is_ok_and(|o| o.stdout.starts_with(b"0"));
+    let prefix: Vec<&str> = if root { vec![] } else { vec!["sudo"] };
+    eprintln!("\n==> no Vulkan driver found: installing {} (Mesa's lavapipe) for the GPU tests", PACKAGES.join(" "));
+    let run = |args: &[&str]| -> Result<(), String> {
+        let all: Vec<&str> = prefix.iter().copied().chain(args.iter().copied()).collect();
+        let status = Command::new(all[0])
+            .args(&all[1..])
+            .env("DEBIAN_FRONTEND", "noninteractive")
+            .status()
+            .map_err(|e| format!("{}: {e}; {manual}", all.join(" ")))?;
+        if status.success() { Ok(()) } else { Err(format!("`{}` failed ({status}); {manual}", all.join(" "))) }
+    };
+    run(&["apt-get", "update", "-qq"])?;
+    let mut install = vec!["apt-get", "install", "-y", "-qq"];
+    install.extend(PACKAGES);
+    run(&install)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_driver_needs_a_manifest_and_the_loader() {
+        let dir = std::env::temp_dir().join(format!("xtask-icd-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let loader = "\tlibvulkan.so.1 (libc6,x86-64) => /lib/x86_64-linux-gnu/libvulkan.so.1\n";
+        let dirs = [dir.as_path()];
+        if std::env::var_os("VK_ICD_FILENAMES").is_none() {
+            assert!(!vulkan_present(&dirs, loader), "an empty ICD directory is no driver");
+        }
+        std::fs::write(dir.join("lvp_icd.x86_64.json"), "{}").unwrap();
+        assert!(vulkan_present(&dirs, loader));
+        assert!(!vulkan_present(&dirs, "\tlibc.so.6 (libc6,x86-64) => /lib/libc.so.6\n"), "no loader");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
