@@ -103,6 +103,11 @@ pub struct RenderArgs {
     #[arg(long)]
     pub generic: bool,
 
+    /// Also write the render's statistics as JSON: scene, backend, adapter, kernel, spp,
+    /// time, camera samples/s, rays/s and the time of every pass.
+    #[arg(long, value_name = "FILE.json")]
+    pub stats: Option<PathBuf>,
+
     /// Energy compensation of every GGX material (multiple scattering: Kulla & Conty for
     /// conductors, the albedo scale for dielectrics, the coat's 1 - E for plastics)
     /// [default: each material's energy_compensation, itself on by default].

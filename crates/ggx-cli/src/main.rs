@@ -16,6 +16,7 @@ mod overrides;
 mod progress;
 mod render_cmd;
 mod runtime_dir;
+mod stats;
 
 use std::process::ExitCode;
 

@@ -22,6 +22,21 @@ pub fn check(path: &Path, inputs: &[&Path]) -> Result<()> {
     Ok(())
 }
 
+/// Fails unless the statistics file `path` can be written (see `ggx_film::check_file`): it
+/// must end in `.json`, differ from the image `output` and be none of `inputs`.
+pub fn check_stats(path: &Path, output: &Path, inputs: &[&Path]) -> Result<()> {
+    let shown = path.display();
+    if !path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json")) {
+        bail!("{shown}: the statistics file must end in .json");
+    }
+    if path == output || same_file(path, output) {
+        bail!("{shown}: is also the image output");
+    }
+    check_not_input(path, inputs)?;
+    ggx_film::check_file(path)?;
+    Ok(())
+}
+
 /// Fails when `path` is one of `inputs` (the files a loaded scene reads).
 pub fn check_not_input(path: &Path, inputs: &[&Path]) -> Result<()> {
     match inputs.iter().find(|input| same_file(path, input)) {

@@ -16,6 +16,7 @@ use crate::backend::{self, Device};
 use crate::exit::Outcome;
 use crate::interrupt::{Interrupt, Phase};
 use crate::progress::RenderProgress;
+use crate::stats::{self, PassLog, Stats};
 use crate::{accel, memory, output, overrides};
 
 /// Runs `ggx render`.
@@ -26,6 +27,9 @@ pub fn run(args: &RenderArgs) -> Result<Outcome> {
     // Everything that can be checked without rendering is checked first.
     let device = backend::select(args.backend)?;
     output::check(&args.output, &[&args.scene])?;
+    if let Some(stats) = &args.stats {
+        output::check_stats(stats, &args.output, &[&args.scene])?;
+    }
 
     let limits = args.limits.limits();
     eprintln!("loading {}", args.scene.display());
@@ -33,19 +37,24 @@ pub fn run(args: &RenderArgs) -> Result<Outcome> {
     overrides::apply(&mut scene, args)?;
     let inputs: Vec<&std::path::Path> = scene.inputs.iter().map(PathBuf::as_path).collect();
     output::check_not_input(&args.output, &inputs)?;
+    if let Some(stats) = &args.stats {
+        output::check_not_input(stats, &inputs)?;
+    }
     memory::check(&scene, &limits)?;
     for warning in scene.warnings() {
         eprintln!("warning: {warning}");
     }
 
-    let result = match device {
-        Device::Cpu => render_cpu(&scene, args, bar, &interrupt)?,
-        Device::Wgpu(ctx) => match render_wgpu(&scene, args, &ctx, bar.clone(), &interrupt) {
+    let passes = PassLog::default();
+    let cpu = || ("cpu", stats::cpu_adapter(usize::from(args.threads)));
+    let (result, (backend, adapter)) = match device {
+        Device::Cpu => (render_cpu(&scene, args, bar, &interrupt, &passes)?, cpu()),
+        Device::Wgpu(ctx) => match render_wgpu(&scene, args, &ctx, bar.clone(), &interrupt, &passes) {
             Err(e) if args.backend == Backend::Auto && too_large_for_gpu(&e) => {
                 eprintln!("{}: rendering on the CPU", crate::exit::message(&e));
-                render_cpu(&scene, args, bar, &interrupt)?
+                (render_cpu(&scene, args, bar, &interrupt, &passes)?, cpu())
             }
-            other => other?,
+            other => (other?, ("wgpu", ctx.describe())),
         },
     };
     let requested = scene.integrator.spp;
@@ -65,6 +74,16 @@ pub fn run(args: &RenderArgs) -> Result<Outcome> {
     let (width, height) = (result.film.width(), result.film.height());
     // The error names the path and what failed.
     ggx_film::write_image(&args.output, width, height, &result.film.mean(), &options)?;
+    if let Some(path) = &args.stats {
+        let context = stats::StatsContext {
+            scene: &args.scene,
+            output: &args.output,
+            backend,
+            adapter,
+            spp_requested: requested,
+        };
+        Stats::new(context, &result, passes.passes()).write(path)?;
+    }
 
     // A signal that came while a complete image was written still ends with code 130, but
     // the summary says what the image is.
@@ -74,7 +93,13 @@ pub fn run(args: &RenderArgs) -> Result<Outcome> {
 }
 
 /// Builds the BVH and renders on the CPU.
-fn render_cpu(scene: &Scene, args: &RenderArgs, bar: ProgressBar, interrupt: &Interrupt) -> Result<RenderResult> {
+fn render_cpu(
+    scene: &Scene,
+    args: &RenderArgs,
+    bar: ProgressBar,
+    interrupt: &Interrupt,
+    passes: &PassLog,
+) -> Result<RenderResult> {
     let renderer = Renderer::new(scene, accel::kind(args.accel));
     let [width, height] = scene.camera.resolution;
     let kernel = if args.generic { "generic kernel" } else { "specialized kernel" };
@@ -93,7 +118,10 @@ fn render_cpu(scene: &Scene, args: &RenderArgs, bar: ProgressBar, interrupt: &In
         u64::from(width) * u64::from(height),
         scene.integrator.time_budget,
     );
-    let on_progress = |p: Progress| progress.update(&p);
+    let on_progress = |p: Progress| {
+        passes.record(&p);
+        progress.update(&p);
+    };
     let control = RenderControl { cancel: Some(interrupt.cancel_flag()), progress: Some(&on_progress) };
     let options = RenderOptions { threads: usize::from(args.threads), specialize: !args.generic };
     let result = renderer.render(&options, &control);
@@ -108,6 +136,7 @@ fn render_wgpu(
     ctx: &GpuContext,
     bar: ProgressBar,
     interrupt: &Interrupt,
+    passes: &PassLog,
 ) -> Result<RenderResult> {
     let renderer = WgpuRenderer::new(scene, ctx)?;
     let [width, height] = scene.camera.resolution;
@@ -126,7 +155,10 @@ fn render_wgpu(
         u64::from(width) * u64::from(height),
         scene.integrator.time_budget,
     );
-    let on_progress = |p: Progress| progress.update(&p);
+    let on_progress = |p: Progress| {
+        passes.record(&p);
+        progress.update(&p);
+    };
     let control = RenderControl { cancel: Some(interrupt.cancel_flag()), progress: Some(&on_progress) };
     let options = RenderOptions { threads: 0, specialize: !args.generic };
     let result = renderer.render(&options, &control);

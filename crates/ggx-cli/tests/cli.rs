@@ -213,3 +213,40 @@ fn an_empty_scene_renders_with_a_warning() {
         "{stderr}"
     );
 }
+
+/// `--stats FILE.json` writes what the render did; a stats path that is not `.json` or is
+/// the image itself is refused before anything is rendered.
+#[test]
+fn stats_file_describes_the_render() {
+    let dir = TempDir::new("stats");
+    let (image, json) = (dir.path().join("s.png"), dir.path().join("s.json"));
+    let args = ["--spp", "4", "--width", "24", "--height", "12", "--stats", json.to_str().unwrap()];
+    let out = ggx(&[&["render", &scene("cornell.toml"), "-o", image.to_str().unwrap()][..], &args[..]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let stats: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(stats["backend"], "cpu");
+    assert_eq!(stats["kernel"], "area");
+    assert_eq!((stats["width"].as_u64(), stats["height"].as_u64()), (Some(24), Some(12)));
+    assert_eq!((stats["spp"].as_u64(), stats["spp_requested"].as_u64()), (Some(4), Some(4)));
+    assert_eq!(stats["camera_samples"].as_u64(), Some(24 * 12 * 4));
+    assert!(stats["rays"].as_u64().unwrap() >= 24 * 12 * 4);
+    assert!(stats["rays_per_second"].as_f64().unwrap() > 0.0 && stats["seconds"].as_f64().unwrap() > 0.0);
+    assert!(stats["adapter"].as_str().unwrap().contains("threads"), "{stats}");
+    // The pass schedule 1, 1, 2 spp: cumulative 1, 2, 4, times increasing.
+    let passes = stats["passes"].as_array().unwrap();
+    let spp: Vec<u64> = passes.iter().map(|p| p["spp"].as_u64().unwrap()).collect();
+    assert_eq!(spp, [1, 2, 4]);
+    let times: Vec<f64> = passes.iter().map(|p| p["seconds"].as_f64().unwrap()).collect();
+    assert!(times.windows(2).all(|w| w[0] <= w[1]), "{times:?}");
+
+    // A link named .json that points at the image is the image.
+    std::os::unix::fs::symlink(&image, dir.path().join("link.json")).unwrap();
+    for (bad, message) in [("s.txt", "must end in .json"), ("link.json", "is also the image output")] {
+        let path = dir.path().join(bad);
+        let out =
+            ggx(&["render", &scene("cornell.toml"), "-o", image.to_str().unwrap(), "--stats", path.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{stderr}");
+        assert!(stderr.contains(message) && !stderr.contains("loading"), "{stderr}");
+    }
+}

@@ -36,7 +36,7 @@ pub use error::{FilmError, OutputError, ParseToneMapError};
 pub use exr_io::read_exr;
 pub use film::Film;
 pub use metrics::{ImageMetrics, REL_EPSILON, channel_rel_sq, compare};
-pub use output::{SUPPORTED_EXTENSIONS, check_output, write_image};
+pub use output::{SUPPORTED_EXTENSIONS, check_file, check_output, write_file, write_image};
 pub use srgb::srgb_encode;
 pub use tonemap::ToneMap;
 

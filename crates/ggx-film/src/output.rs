@@ -75,6 +75,27 @@ pub fn check_output(path: &Path) -> Result<(), OutputError> {
     check_replaceable(path)
 }
 
+/// Writes `bytes` to `path` the way [`write_image`] writes images: to a temporary file in the
+/// same directory, synced, then renamed over `path` (links followed, the replaced file's mode
+/// kept, only a regular file replaced). For files that go with an image, such as render
+/// statistics.
+pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
+    write_atomically(path, |out| {
+        use std::io::Write as _;
+        out.write_all(bytes).map_err(|source| OutputError::Io {
+            path: path.to_owned(),
+            action: "cannot write".into(),
+            source,
+        })
+    })
+}
+
+/// Checks, before any work is done, that [`write_file`] will be able to write `path` (an
+/// existing directory in which a file can be created, nothing but a regular file to replace).
+pub fn check_file(path: &Path) -> Result<(), OutputError> {
+    check_replaceable(path)
+}
+
 /// `p * scale` in f64, finite values saturated to `±f32::MAX` (NaN and inf stay as they are).
 fn expose(p: Vec3, scale: f64) -> Vec3 {
     let one = |c: f32| {

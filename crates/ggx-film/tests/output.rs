@@ -231,3 +231,26 @@ fn check_output_finds_unwritable_places_before_any_work() {
     assert!(msg.contains("cannot create a file in /proc"), "{msg}");
     assert!(ggx_film::check_output(&dir.path().join("x.jpg")).is_err());
 }
+
+/// `write_file` writes any bytes the way images are written: it replaces a regular file
+/// through its link, leaves no temporary file behind, and refuses a directory;
+/// `check_file` says so before any work.
+#[test]
+fn write_file_is_atomic_like_the_images() {
+    let dir = Scratch::new("write-file");
+    let path = dir.path().join("stats.json");
+    ggx_film::check_file(&path).unwrap();
+    ggx_film::write_file(&path, b"{\"a\": 1}\n").unwrap();
+    ggx_film::write_file(&path, b"{}\n").unwrap();
+    assert_eq!(std::fs::read(&path).unwrap(), b"{}\n");
+    let link = dir.path().join("link.json");
+    std::os::unix::fs::symlink(&path, &link).unwrap();
+    ggx_film::write_file(&link, b"[]\n").unwrap();
+    assert_eq!(std::fs::read(&path).unwrap(), b"[]\n");
+    assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink(), "the link stays");
+    let names: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(names.len(), 2, "no temporary file left: {names:?}");
+    let sub = dir.path().join("sub.json");
+    std::fs::create_dir(&sub).unwrap();
+    assert!(ggx_film::check_file(&sub).is_err() && ggx_film::write_file(&sub, b"x").is_err());
+}
