@@ -1,8 +1,10 @@
 //! The render progress bar on stderr: spp done of the target, camera samples per second,
-//! ETA, and elapsed time against the time budget when there is one. Hidden when stderr is
-//! not a terminal.
+//! ETA, and elapsed time against the time budget when there is one. When stderr is not a
+//! terminal (a log file, a batch job) the bar is hidden and the same figures go out as
+//! `progress: ...` lines instead, at most one a second (and the last pass always).
 
 use std::io::IsTerminal;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
 
 use ggx_cpu::Progress;
@@ -22,11 +24,18 @@ pub fn new_bar() -> ProgressBar {
     bar
 }
 
-/// Shows a render's [`Progress`] on a bar.
+/// Least time between two progress lines, in seconds.
+const LINE_INTERVAL: f64 = 1.0;
+
+/// Shows a render's [`Progress`] on a bar, or as lines when stderr is not a terminal.
 pub struct RenderProgress {
     bar: ProgressBar,
     pixels: u64,
     budget: Option<Duration>,
+    /// Print `progress:` lines (stderr is not a terminal).
+    lines: bool,
+    /// Render time of the last line printed, as `f64` bits (`-inf` before the first).
+    last_line: AtomicU64,
 }
 
 impl RenderProgress {
@@ -34,7 +43,8 @@ impl RenderProgress {
     /// seconds.
     pub fn start(bar: ProgressBar, spp_target: u32, pixels: u64, budget: Option<f32>) -> Self {
         let budget = budget.and_then(|b| Duration::try_from_secs_f32(b).ok());
-        let this = Self { bar, pixels, budget };
+        let lines = !std::io::stderr().is_terminal();
+        let this = Self { bar, pixels, budget, lines, last_line: AtomicU64::new(f64::NEG_INFINITY.to_bits()) };
         this.update(&Progress { spp_done: 0, spp_target, elapsed: Duration::ZERO });
         this.bar.enable_steady_tick(Duration::from_millis(120));
         this
@@ -47,6 +57,21 @@ impl RenderProgress {
         let fraction = spp_fraction.max(time_fraction).min(1.0);
         self.bar.set_position((fraction * STEPS as f64) as u64);
         self.bar.set_message(self.message(p));
+        if self.lines && self.line_due(p) {
+            eprintln!("progress: {}", self.message(p));
+        }
+    }
+
+    /// Whether `p` gets a line: a pass has completed and at least [`LINE_INTERVAL`] went by
+    /// since the last line, or it is the last pass; records the line's time.
+    fn line_due(&self, p: &Progress) -> bool {
+        let now = p.elapsed.as_secs_f64();
+        let last = f64::from_bits(self.last_line.load(Ordering::Relaxed));
+        let due = p.spp_done > 0 && (now - last >= LINE_INTERVAL || p.spp_done >= p.spp_target);
+        if due {
+            self.last_line.store(now.to_bits(), Ordering::Relaxed);
+        }
+        due
     }
 
     fn message(&self, p: &Progress) -> String {
@@ -106,12 +131,27 @@ mod tests {
         Progress { spp_done, spp_target, elapsed: Duration::from_secs_f32(secs) }
     }
 
+    fn hidden(budget: Option<Duration>) -> RenderProgress {
+        let last_line = AtomicU64::new(f64::NEG_INFINITY.to_bits());
+        RenderProgress { bar: ProgressBar::hidden(), pixels: 1_000_000, budget, lines: true, last_line }
+    }
+
+    #[test]
+    fn lines_come_at_most_once_a_second_and_for_the_last_pass() {
+        let p = hidden(None);
+        let due: Vec<bool> = [(0, 0.0), (1, 0.1), (2, 0.5), (4, 1.2), (8, 1.9), (16, 2.3), (32, 2.4)]
+            .iter()
+            .map(|&(spp, t)| p.line_due(&progress(spp, 32, t)))
+            .collect();
+        assert_eq!(due, [false, true, false, true, false, true, true]);
+    }
+
     #[test]
     fn message_shows_rate_budget_and_eta() {
-        let p = RenderProgress { bar: ProgressBar::hidden(), pixels: 1_000_000, budget: None };
+        let p = hidden(None);
         assert_eq!(p.message(&progress(0, 64, 0.0)), "0/64 spp");
         assert_eq!(p.message(&progress(16, 64, 2.0)), "16/64 spp  8.00 M samples/s  ETA 6s");
-        let p = RenderProgress { budget: Some(Duration::from_secs(10)), ..p };
+        let p = hidden(Some(Duration::from_secs(10)));
         assert_eq!(p.message(&progress(0, 1000, 0.0)), "0/1000 spp  0.0/10.0 s  ETA 10s");
         assert_eq!(p.message(&progress(4, 1000, 2.0)), "4/1000 spp  2.00 M samples/s  2.0/10.0 s  ETA 8s");
     }

@@ -250,3 +250,16 @@ fn stats_file_describes_the_render() {
         assert!(stderr.contains(message) && !stderr.contains("loading"), "{stderr}");
     }
 }
+
+/// With stderr not a terminal (captured here) progress comes as lines, the last pass always.
+#[test]
+fn progress_lines_when_stderr_is_not_a_terminal() {
+    let dir = TempDir::new("lines");
+    let image = dir.path().join("p.png");
+    let out = ggx(&["render", &scene("cornell.toml"), "-o", image.to_str().unwrap(), "--spp", "8", "--width", "16"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.lines().any(|l| l.starts_with("progress: 8/8 spp")), "{stderr}");
+    let first = stderr.lines().find(|l| l.starts_with("progress: ")).unwrap_or_default();
+    assert!(first.starts_with("progress: 1/8 spp"), "{stderr}");
+}
