@@ -12,25 +12,42 @@ const ICD_DIRS: [&str; 3] = ["/usr/share/vulkan/icd.d", "/etc/vulkan/icd.d", "/u
 /// The Debian packages of lavapipe and the Vulkan loader.
 const PACKAGES: [&str; 2] = ["mesa-vulkan-drivers", "libvulkan1"];
 
-/// True when some Vulkan driver manifest (`*.json`) is installed in `dirs` and the loader
-/// `libvulkan.so.1` is found by `ldconfig` (or `VK_ICD_FILENAMES` names a driver).
+/// Where distributions put the Vulkan loader, for when `ldconfig` is not on `PATH`.
+const LOADER_PATHS: [&str; 4] = [
+    "/usr/lib/x86_64-linux-gnu/libvulkan.so.1",
+    "/usr/lib/aarch64-linux-gnu/libvulkan.so.1",
+    "/usr/lib64/libvulkan.so.1",
+    "/usr/lib/libvulkan.so.1",
+];
+
+/// True when some Vulkan driver manifest (`*.json`) is installed in `dirs` (or
+/// `VK_ICD_FILENAMES` / `VK_DRIVER_FILES` names a driver) and the loader `libvulkan.so.1` is
+/// in `loader_listing` (`ldconfig -p`) or at one of [`LOADER_PATHS`].
 pub fn vulkan_present(dirs: &[&Path], loader_listing: &str) -> bool {
-    let icd = std::env::var_os("VK_ICD_FILENAMES").is_some_and(|v| !v.is_empty())
+    let named = |var: &str| std::env::var_os(var).is_some_and(|v| !v.is_empty());
+    let icd = named("VK_ICD_FILENAMES")
+        || named("VK_DRIVER_FILES")
         || dirs.iter().any(|d| {
             std::fs::read_dir(d)
                 .is_ok_and(|entries| entries.flatten().any(|e| e.path().extension().is_some_and(|x| x == "json")))
         });
-    icd && loader_listing.contains("libvulkan.so.1")
+    icd && (loader_listing.contains("libvulkan.so.1") || LOADER_PATHS.iter().any(|p| Path::new(p).exists()))
+}
+
+/// `ldconfig -p`, trying `PATH` and then `/sbin` and `/usr/sbin` (not on a user's `PATH` on
+/// Debian); empty when none runs.
+fn ldconfig_listing() -> String {
+    ["ldconfig", "/sbin/ldconfig", "/usr/sbin/ldconfig"]
+        .iter()
+        .find_map(|cmd| Command::new(cmd).arg("-p").output().ok().filter(|o| o.status.success()))
+        .map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
+        .unwrap_or_default()
 }
 
 /// Installs lavapipe where no Vulkan driver is present (apt-get, through sudo when not
 /// root); an error says what to install by hand where that is impossible.
 pub fn ensure_vulkan() -> Result<(), String> {
-    let listing = Command::new("ldconfig")
-        .arg("-p")
-        .output()
-        .map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
-        .unwrap_or_default();
+    let listing = ldconfig_listing();
     let dirs: Vec<&Path> = ICD_DIRS.iter().map(Path::new).collect();
     if vulkan_present(&dirs, &listing) {
         return Ok(());
@@ -67,12 +84,14 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let loader = "\tlibvulkan.so.1 (libc6,x86-64) => /lib/x86_64-linux-gnu/libvulkan.so.1\n";
         let dirs = [dir.as_path()];
-        if std::env::var_os("VK_ICD_FILENAMES").is_none() {
+        if std::env::var_os("VK_ICD_FILENAMES").is_none() && std::env::var_os("VK_DRIVER_FILES").is_none() {
             assert!(!vulkan_present(&dirs, loader), "an empty ICD directory is no driver");
         }
         std::fs::write(dir.join("lvp_icd.x86_64.json"), "{}").unwrap();
         assert!(vulkan_present(&dirs, loader));
-        assert!(!vulkan_present(&dirs, "\tlibc.so.6 (libc6,x86-64) => /lib/libc.so.6\n"), "no loader");
+        let loader_installed = LOADER_PATHS.iter().any(|p| Path::new(p).exists());
+        let no_loader = "\tlibc.so.6 (libc6,x86-64) => /lib/libc.so.6\n";
+        assert_eq!(vulkan_present(&dirs, no_loader), loader_installed, "the loader found by its path alone");
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

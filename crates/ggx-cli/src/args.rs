@@ -110,7 +110,8 @@ pub struct RenderArgs {
 
     /// Energy compensation of every GGX material (multiple scattering: Kulla & Conty for
     /// conductors, the albedo scale for dielectrics, the coat's 1 - E for plastics)
-    /// [default: each material's energy_compensation, itself on by default].
+    /// [default: the scene's integrator.energy_compensation if given, else each material's
+    /// energy_compensation, itself on by default].
     #[arg(long, value_enum, value_name = "ON|OFF")]
     pub energy_compensation: Option<OnOff>,
 

@@ -1,7 +1,9 @@
 //! The render progress bar on stderr: spp done of the target, camera samples per second,
 //! ETA, and elapsed time against the time budget when there is one. When stderr is not a
 //! terminal (a log file, a batch job) the bar is hidden and the same figures go out as
-//! `progress: ...` lines instead, at most one a second (and the last pass always).
+//! `progress: ...` lines instead, at most one a second (and always for the pass that
+//! reaches the target spp; a render a time budget or a signal ends early closes with its
+//! summary line instead).
 
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicU64, Ordering};

@@ -96,11 +96,20 @@ fn sides_agree(wi: Vec3, wi_world: Vec3, ng: Vec3, transmits: bool) -> bool {
     if transmits { side * wi.z > 0.0 } else { wi.z > 0.0 && side > 0.0 }
 }
 
-/// Beer-Lambert transmittance `exp(-sigma t)` of a segment of length `t` (`t = inf` with
-/// `sigma = 0` gives 1).
+/// Beer-Lambert transmittance `exp(-sigma t)` of a segment of finite length `t`, 1 in the
+/// channels that do not absorb.
 #[inline(always)]
 fn transmittance(sigma: Vec3, t: f32) -> Vec3 {
     let e = |s: f32| if s > 0.0 { (-s * t).exp() } else { 1.0 };
+    Vec3::new(e(sigma.x), e(sigma.y), e(sigma.z))
+}
+
+/// Transmittance of an infinite segment (a ray that leaves an open absorbing mesh): 0 in
+/// the channels that absorb, 1 in the others. Spelled out rather than `exp(-sigma inf)`, which
+/// a GPU need not evaluate to 0.
+#[inline(always)]
+fn escape_transmittance(sigma: Vec3) -> Vec3 {
+    let e = |s: f32| if s > 0.0 { 0.0 } else { 1.0 };
     Vec3::new(e(sigma.x), e(sigma.y), e(sigma.z))
 }
 
@@ -163,7 +172,10 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
         let hit = scene.accel.closest(origin, dir, f32::INFINITY);
         if DIELECTRIC && sigma != Vec3::ZERO {
             // A ray inside an open mesh that escapes has crossed an infinite medium.
-            beta *= transmittance(sigma, hit.map_or(f32::INFINITY, |h| h.t));
+            beta *= match hit {
+                Some(h) => transmittance(sigma, h.t),
+                None => escape_transmittance(sigma),
+            };
         }
         let Some(hit) = hit else {
             if has_env && let Some(env) = &scene.environment {
@@ -284,11 +296,16 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
                     if f != Vec3::ZERO {
                         counters.shadow_rays += 1;
                         let origin = if transmits { offset_ray_origin(p, ng * wi.z.signum()) } else { p_out };
-                        // Toward the environment through an absorbing medium: nothing arrives.
-                        let absorbed = DIELECTRIC && segment_medium(&bsdf, sigma, wi.z) != Vec3::ZERO;
-                        if !absorbed && scene.accel.unoccluded(origin, wi_world, f32::INFINITY) {
+                        // Toward the environment through an absorbing medium: the absorbing
+                        // channels receive nothing, the others all of it.
+                        let tr = if DIELECTRIC {
+                            escape_transmittance(segment_medium(&bsdf, sigma, wi.z))
+                        } else {
+                            Vec3::ONE
+                        };
+                        if tr != Vec3::ZERO && scene.accel.unoccluded(origin, wi_world, f32::INFINITY) {
                             let w = if use_mis { power_heuristic(1.0, pdf_light, 1.0, bsdf.pdf(wo, wi)) } else { 1.0 };
-                            radiance += beta * f * env.radiance(wi_world) * (w / pdf_light);
+                            radiance += beta * f * tr * env.radiance(wi_world) * (w / pdf_light);
                         }
                     }
                 }

@@ -172,3 +172,49 @@ fn glass_is_bit_identical_for_any_thread_count_and_kernel() {
     assert_eq!(one, image(2, true), "1 vs 2 threads");
     assert_eq!(one, image(2, false), "specialized vs generic kernel");
 }
+
+/// Light reaching the camera through an open absorbing surface (a rough glass plane whose
+/// inside is an infinite medium absorbing red only): the absorbing channel gets nothing from
+/// behind, and the others are untouched, along BSDF samples and next-event estimation alike.
+/// Without roulette the green and blue channels are bit for bit those of a clear plane.
+#[test]
+fn absorption_removes_only_its_own_channels() {
+    let text = |absorption: &str| {
+        format!(
+            r#"
+[camera]
+position = [0, 0, 3]
+look_at = [0, 0, 0]
+fov_y = 30.0
+resolution = [8, 8]
+[integrator]
+spp = 16
+max_depth = 4
+russian_roulette = 0
+[environment]
+type = "constant"
+radiance = [1, 1, 1]
+[materials.glass]
+type = "dielectric"
+ior = 1.5
+alpha = 0.3
+absorption = {absorption}
+[[shapes]]
+type = "rectangle"
+material = "glass"
+transform = {{ scale = 20 }}
+"#
+        )
+    };
+    let image = |absorption: &str| {
+        let scene = scene_from(&text(absorption));
+        let r =
+            Renderer::new(&scene, AccelKind::default()).render(&RenderOptions::default(), &RenderControl::default());
+        r.unwrap().film.mean()
+    };
+    let (clear, red) = (image("[0, 0, 0]"), image("[1, 0, 0]"));
+    for (c, r) in clear.iter().zip(&red) {
+        assert_eq!((c.y.to_bits(), c.z.to_bits()), (r.y.to_bits(), r.z.to_bits()), "clear {c} vs red-absorbing {r}");
+        assert!(r.x < c.x, "red is absorbed behind the plane: {r} vs {c}");
+    }
+}

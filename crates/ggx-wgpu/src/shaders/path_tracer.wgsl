@@ -179,13 +179,18 @@ fn sides_agree(wi: vec3<f32>, wi_world: vec3<f32>, ng: vec3<f32>, transmits: boo
     return wi.z > 0.0 && side > 0.0;
 }
 
-// integrator.rs `transmittance`: exp(-sigma t) per channel, 1 where sigma <= 0.
+// integrator.rs `transmittance`: exp(-sigma t) per channel for a finite t, 1 where sigma <= 0.
 fn medium_transmittance(sigma: vec3<f32>, t: f32) -> vec3<f32> {
     return vec3(
         select(1.0, exp(-sigma.x * t), sigma.x > 0.0),
         select(1.0, exp(-sigma.y * t), sigma.y > 0.0),
         select(1.0, exp(-sigma.z * t), sigma.z > 0.0),
     );
+}
+
+// integrator.rs `escape_transmittance`: 0 in the channels that absorb, 1 in the others (not exp(-sigma inf)).
+fn escape_transmittance(sigma: vec3<f32>) -> vec3<f32> {
+    return select(vec3(1.0), vec3(0.0), sigma > vec3(0.0));
 }
 
 // integrator.rs `segment_medium`: a dielectric's absorption inside (wi.z < 0), vacuum outside; others keep `current`.
@@ -279,7 +284,7 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
         if DIELECTRIC && any(sigma != vec3(0.0)) {
             if prim == NO_INDEX {
                 // Escaping an open mesh from inside: an infinite medium.
-                beta *= medium_transmittance(sigma, inf_f32());
+                beta *= escape_transmittance(sigma);
             } else {
                 beta *= medium_transmittance(sigma, ray.tmax);
             }
@@ -396,13 +401,16 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
                         if transmits {
                             shadow_origin = offset_ray_origin(p, ng * signum(wi.z));
                         }
-                        let absorbed = DIELECTRIC && any(segment_medium(m, sigma, wi.z) != vec3(0.0));
-                        if !absorbed && unoccluded(shadow_origin, wi_world, inf_f32()) {
+                        var tr = vec3(1.0);
+                        if DIELECTRIC {
+                            tr = escape_transmittance(segment_medium(m, sigma, wi.z));
+                        }
+                        if any(tr != vec3(0.0)) && unoccluded(shadow_origin, wi_world, inf_f32()) {
                             var w = 1.0f;
                             if use_mis {
                                 w = power_heuristic(1.0, pdf_light, 1.0, bsdf_pdf(m, wo, wi));
                             }
-                            radiance += beta * f * env_radiance(wi_world) * (w / pdf_light);
+                            radiance += beta * f * tr * env_radiance(wi_world) * (w / pdf_light);
                         }
                     }
                 }
