@@ -3,30 +3,12 @@
 //! a slab, shadow rays do not leak through glass, and glass scenes are bit-identical across
 //! kernels and thread counts.
 
+mod support;
+
 use ggx_cpu::{AccelKind, RenderControl, RenderOptions, Renderer};
-use ggx_scene::{Scene, parse_scene};
 use glam::Vec3;
 use std::path::Path;
-
-fn scene_from(text: &str) -> Scene {
-    parse_scene(text, "test.toml", Path::new(".")).unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// Mean radiance of the pixels in `[x0, x1) x [y0, y1)` (the whole image when `None`).
-fn render_mean(scene: &Scene, window: Option<[u32; 4]>) -> Vec3 {
-    let r = Renderer::new(scene, AccelKind::default()).render(&RenderOptions::default(), &RenderControl::default());
-    let r = r.unwrap();
-    let [w, h] = scene.camera.resolution;
-    let [x0, y0, x1, y1] = window.unwrap_or([0, 0, w, h]);
-    let px = r.film.mean();
-    let mut sum = Vec3::ZERO;
-    for y in y0..y1 {
-        for x in x0..x1 {
-            sum += px[(y * w + x) as usize];
-        }
-    }
-    sum / ((x1 - x0) * (y1 - y0)) as f32
-}
+use support::{render, render_mean, scene_from};
 
 /// A closed sphere filling the frame, in a uniform environment of 0.7.
 const FURNACE: &str = r#"
@@ -53,7 +35,7 @@ smooth = false
 "#;
 
 fn furnace(material: &str) -> Vec3 {
-    render_mean(&scene_from(&FURNACE.replace("MATERIAL", material)), None)
+    render_mean(&scene_from(&FURNACE.replace("MATERIAL", material)))
 }
 
 /// Light that enters a closed glass sphere must leave: with energy compensation the sphere
@@ -102,7 +84,7 @@ type = "box"
 material = "glass"
 transform = { scale = [10, 10, 0.4] }
 "#;
-    let m = render_mean(&scene_from(text), None);
+    let m = render_mean(&scene_from(text));
     let r = 0.04f32;
     let want = Vec3::new(0.5, 1.0, 2.0).map(|s| {
         let a = (-s * 0.4f32).exp();
@@ -147,9 +129,9 @@ material = "lamp"
 transform = { translate = [0, 2, 0], rotate = [90, 0, 0], scale = 0.5 }
 "#;
     let pane = "[[shapes]]\ntype = \"rectangle\"\nmaterial = \"pane\"\ntransform = { translate = [0, 1, 0], rotate = [90, 0, 0], scale = 0.8 }\n";
-    let open = render_mean(&scene_from(base), None);
+    let open = render_mean(&scene_from(base));
     // The camera sees the floor under the pane from the side, past its edge.
-    let covered = render_mean(&scene_from(&format!("{base}{pane}")), None);
+    let covered = render_mean(&scene_from(&format!("{base}{pane}")));
     println!("floor without the pane {open}, under it {covered}");
     assert!(((covered - open) / open).abs().max_element() < 0.03, "{covered} vs {open}");
 }
@@ -206,12 +188,7 @@ transform = {{ scale = 20 }}
 "#
         )
     };
-    let image = |absorption: &str| {
-        let scene = scene_from(&text(absorption));
-        let r =
-            Renderer::new(&scene, AccelKind::default()).render(&RenderOptions::default(), &RenderControl::default());
-        r.unwrap().film.mean()
-    };
+    let image = |absorption: &str| render(&scene_from(&text(absorption))).film.mean();
     let (clear, red) = (image("[0, 0, 0]"), image("[1, 0, 0]"));
     for (c, r) in clear.iter().zip(&red) {
         assert_eq!((c.y.to_bits(), c.z.to_bits()), (r.y.to_bits(), r.z.to_bits()), "clear {c} vs red-absorbing {r}");

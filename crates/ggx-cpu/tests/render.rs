@@ -3,23 +3,13 @@
 //! strategy converges to the same image, and the image is bit-identical whatever the thread
 //! count or kernel specialization.
 
-use ggx_cpu::{AccelKind, RenderControl, RenderOptions, RenderResult, Renderer};
-use ggx_scene::{Scene, parse_scene};
+mod support;
+
+use ggx_cpu::{AccelKind, RenderControl, RenderOptions, Renderer};
 use glam::Vec3;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
-
-fn scene_from(text: &str) -> Scene {
-    parse_scene(text, "test.toml", Path::new(".")).unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn render(scene: &Scene) -> RenderResult {
-    Renderer::new(scene, AccelKind::default()).render(&RenderOptions::default(), &RenderControl::default()).unwrap()
-}
-
-fn mean(pixels: &[Vec3]) -> Vec3 {
-    pixels.iter().copied().sum::<Vec3>() / pixels.len() as f32
-}
+use support::{mean, render, scene_from};
 
 #[test]
 fn every_shipped_scene_renders() {
