@@ -32,6 +32,26 @@ pub enum FilmError {
         /// Samples in the rejected pass.
         samples: u32,
     },
+    /// Per-pixel sums that do not match their window, or a window outside the film.
+    #[error("{actual} pixel sums do not fit the window {window:?} of the {width}x{height} film")]
+    WindowLength {
+        /// The window `[x0, y0, x1, y1)`.
+        window: [u32; 4],
+        /// Film width.
+        width: u32,
+        /// Film height.
+        height: u32,
+        /// Number of sums given.
+        actual: usize,
+    },
+    /// Two films of different sizes cannot be merged.
+    #[error("cannot merge a {}x{} film into a {}x{} film", other[0], other[1], this[0], this[1])]
+    MergeSize {
+        /// This film's size.
+        this: [u32; 2],
+        /// The other film's size.
+        other: [u32; 2],
+    },
     /// `width * height` pixels cannot be allocated on this platform.
     #[error("film size {width}x{height} is too large")]
     TooLarge {
@@ -59,6 +79,14 @@ pub enum FilmError {
 /// An error while writing or reading an image file. Every variant names the file.
 #[derive(Debug, Error)]
 pub enum OutputError {
+    /// A file that `ggx merge` or `--resume` cannot use as a film.
+    #[error("{}: not a ggx film file: {reason}", path.display())]
+    NotAFilm {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        reason: String,
+    },
     /// The extension is not one of [`crate::SUPPORTED_EXTENSIONS`].
     #[error("{}: unsupported image format (supported extensions: {})", .path.display(), crate::SUPPORTED_EXTENSIONS.join(", "))]
     UnsupportedFormat {

@@ -1,26 +1,30 @@
-//! [`Film`]: the accumulation buffer that renderers add whole passes of samples to.
+//! [`Film`]: the accumulation buffer that renderers add passes, tiles and other films to.
 
 use glam::Vec3;
 
 use crate::FilmError;
+use crate::sample_sum::SampleSum;
 
-/// Linear RGB accumulation film: per-pixel sums of radiance samples in `f64` plus the number
-/// of samples per pixel (every pixel always has the same count: renderers add whole passes).
+/// Linear RGB accumulation film: per pixel, the radiance samples summed in 128-bit fixed
+/// point ([`SampleSum`]) and their count.
 ///
-/// Summing in `f64` keeps the mean exact to `f32` precision for any realistic sample count.
-/// Non-finite samples are stored as they are (a NaN makes that pixel's mean NaN), so that the
-/// film does not hide renderer bugs; the display path ([`crate::tonemap_to_srgb8`]) shows
-/// them as black.
+/// Fixed-point sums are exact under any grouping, so the film of a render equals, bit for
+/// bit, the merge of films that rendered disjoint parts of its samples (`ggx merge`), and a
+/// pixel may hold more samples than another (a render interrupted mid-pass keeps its finished
+/// tiles). Non-finite samples are counted, not hidden: such a pixel's mean is NaN (the display
+/// path, [`crate::tonemap_to_srgb8`], shows it as black).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Film {
     width: u32,
     height: u32,
-    sum: Vec<[f64; 3]>,
-    spp: u32,
+    pixels: Vec<SampleSum>,
 }
 
+/// A pixel window `[x0, y0, x1, y1)` of a film.
+pub type Window = [u32; 4];
+
 impl Film {
-    /// An empty (all zero, `spp == 0`) film of `width x height` pixels.
+    /// An empty (all zero, no samples) film of `width x height` pixels.
     ///
     /// # Panics
     ///
@@ -32,20 +36,23 @@ impl Film {
         }
     }
 
-    /// An empty film, or [`FilmError::TooLarge`] when `width * height` pixels of 24 bytes
-    /// exceed the address space.
+    /// An empty film, or [`FilmError::TooLarge`] when `width * height` pixels of
+    /// [`Film::BYTES_PER_PIXEL`] bytes exceed the address space or cannot be allocated.
     pub fn try_new(width: u32, height: u32) -> Result<Self, FilmError> {
         let too_large = FilmError::TooLarge { width, height };
         let len = pixel_count(width, height).ok_or(too_large.clone())?;
-        let bytes = len.checked_mul(size_of::<[f64; 3]>()).ok_or(too_large.clone())?;
+        let bytes = len.checked_mul(Self::BYTES_PER_PIXEL).ok_or(too_large.clone())?;
         if bytes > isize::MAX as usize {
             return Err(too_large);
         }
-        let mut sum = Vec::new();
-        sum.try_reserve_exact(len).map_err(|_| too_large)?;
-        sum.resize(len, [0.0; 3]);
-        Ok(Self { width, height, sum, spp: 0 })
+        let mut pixels = Vec::new();
+        pixels.try_reserve_exact(len).map_err(|_| too_large)?;
+        pixels.resize(len, SampleSum::default());
+        Ok(Self { width, height, pixels })
     }
+
+    /// Memory of one pixel.
+    pub const BYTES_PER_PIXEL: usize = size_of::<SampleSum>();
 
     /// Width in pixels.
     pub fn width(&self) -> u32 {
@@ -57,51 +64,113 @@ impl Film {
         self.height
     }
 
-    /// Samples per pixel accumulated so far.
+    /// The whole film as a window, `[0, 0, width, height]`.
+    pub fn full_window(&self) -> Window {
+        [0, 0, self.width, self.height]
+    }
+
+    /// Samples that every pixel has (the smallest per-pixel count; 0 for an empty film).
     pub fn spp(&self) -> u32 {
-        self.spp
+        self.pixels.iter().map(|p| p.samples).min().unwrap_or(0)
     }
 
     /// Number of pixels, `width * height`.
     pub fn len(&self) -> usize {
-        self.sum.len()
+        self.pixels.len()
     }
 
     /// True when the film has no pixels.
     pub fn is_empty(&self) -> bool {
-        self.sum.is_empty()
+        self.pixels.is_empty()
     }
 
-    /// Adds one pass: `pass[i]` is the SUM of `samples` radiance samples of pixel `i`
-    /// (row-major, top row first).
+    /// Every pixel's samples, row-major, top row first.
+    pub fn pixels(&self) -> &[SampleSum] {
+        &self.pixels
+    }
+
+    /// Mutable access to every pixel's samples (for readers of saved films).
+    pub fn pixels_mut(&mut self) -> &mut [SampleSum] {
+        &mut self.pixels
+    }
+
+    /// Adds one pass over the whole film: `pass[i]` is the SUM of `samples` radiance samples of
+    /// pixel `i` (row-major, top row first).
     ///
     /// Errors (leaving the film unchanged) when `pass.len() != width * height`, when
-    /// `samples == 0`, or when the samples-per-pixel count would overflow `u32`.
+    /// `samples == 0`, or when a pixel's sample count would overflow `u32`.
     pub fn add_pass(&mut self, pass: &[Vec3], samples: u32) -> Result<(), FilmError> {
-        if pass.len() != self.sum.len() {
+        self.add_pass_window(pass, samples, self.full_window())
+    }
+
+    /// [`Film::add_pass`] for the pixels of `window` only (`pass` still covers the whole film;
+    /// the window is clipped to it).
+    pub fn add_pass_window(&mut self, pass: &[Vec3], samples: u32, window: Window) -> Result<(), FilmError> {
+        if pass.len() != self.pixels.len() {
             return Err(FilmError::PassLength {
                 width: self.width,
                 height: self.height,
-                expected: self.sum.len(),
+                expected: self.pixels.len(),
                 actual: pass.len(),
             });
         }
         if samples == 0 {
             return Err(FilmError::ZeroSamples);
         }
-        let spp = self.spp.checked_add(samples).ok_or(FilmError::SampleCountOverflow { spp: self.spp, samples })?;
-        for (acc, v) in self.sum.iter_mut().zip(pass) {
-            acc[0] += f64::from(v.x);
-            acc[1] += f64::from(v.y);
-            acc[2] += f64::from(v.z);
+        let rows = self.window_rows(window);
+        for range in rows.clone() {
+            if let Some(p) = self.pixels[range].iter().find(|p| p.samples.checked_add(samples).is_none()) {
+                return Err(FilmError::SampleCountOverflow { spp: p.samples, samples });
+            }
         }
-        self.spp = spp;
+        for range in rows {
+            for (acc, v) in self.pixels[range.clone()].iter_mut().zip(&pass[range]) {
+                acc.add_summed(*v, samples);
+            }
+        }
         Ok(())
     }
 
-    /// Mean radiance per pixel, `sum / spp` (zeros when `spp == 0`), row-major, top row first.
+    /// Adds per-pixel sums for the pixels of `window` (row-major within the window, as a tile
+    /// renderer produces them). Errors, leaving the film unchanged, when `sums` does not have
+    /// one entry per window pixel, the window leaves the film, or a count would overflow.
+    pub fn add_window(&mut self, window: Window, sums: &[SampleSum]) -> Result<(), FilmError> {
+        let [x0, y0, x1, y1] = window;
+        let inside = x0 <= x1 && y0 <= y1 && x1 <= self.width && y1 <= self.height;
+        let expected = (x1.saturating_sub(x0) as usize) * (y1.saturating_sub(y0) as usize);
+        if !inside || sums.len() != expected {
+            return Err(FilmError::WindowLength { window, width: self.width, height: self.height, actual: sums.len() });
+        }
+        let w = (x1 - x0) as usize;
+        let rows = self.window_rows(window);
+        for (range, chunk) in rows.clone().zip(sums.chunks(w.max(1))) {
+            for (acc, s) in self.pixels[range].iter().zip(chunk) {
+                if acc.samples.checked_add(s.samples).is_none() {
+                    return Err(FilmError::SampleCountOverflow { spp: acc.samples, samples: s.samples });
+                }
+            }
+        }
+        for (range, chunk) in rows.zip(sums.chunks(w.max(1))) {
+            for (acc, s) in self.pixels[range].iter_mut().zip(chunk) {
+                // Checked above.
+                let _ = acc.merge(s);
+            }
+        }
+        Ok(())
+    }
+
+    /// Adds every pixel of `other` (same size) to this film: the exact merge of two renders of
+    /// disjoint samples. Errors, leaving the film unchanged, on a size mismatch or overflow.
+    pub fn merge(&mut self, other: &Film) -> Result<(), FilmError> {
+        if (other.width, other.height) != (self.width, self.height) {
+            return Err(FilmError::MergeSize { this: [self.width, self.height], other: [other.width, other.height] });
+        }
+        self.add_window(self.full_window(), &other.pixels)
+    }
+
+    /// Mean radiance per pixel ([`SampleSum::mean`]), row-major, top row first.
     pub fn mean(&self) -> Vec<Vec3> {
-        self.sum.iter().map(|s| self.mean_of(s)).collect()
+        self.pixels.iter().map(SampleSum::mean).collect()
     }
 
     /// Mean radiance of pixel `(x, y)` (`(0, 0)` is the top-left), or `None` outside the film.
@@ -110,22 +179,20 @@ impl Film {
             return None;
         }
         let i = usize::try_from(u64::from(y) * u64::from(self.width) + u64::from(x)).ok()?;
-        self.sum.get(i).map(|s| self.mean_of(s))
+        self.pixels.get(i).map(SampleSum::mean)
     }
 
-    /// Forgets every sample: sums and `spp` back to zero.
+    /// Forgets every sample.
     pub fn clear(&mut self) {
-        self.sum.fill([0.0; 3]);
-        self.spp = 0;
+        self.pixels.fill(SampleSum::default());
     }
 
-    /// `sum / spp` converted to `f32`; zero when `spp == 0`.
-    fn mean_of(&self, sum: &[f64; 3]) -> Vec3 {
-        if self.spp == 0 {
-            return Vec3::ZERO;
-        }
-        let inv = 1.0 / f64::from(self.spp);
-        Vec3::new((sum[0] * inv) as f32, (sum[1] * inv) as f32, (sum[2] * inv) as f32)
+    /// The index ranges of the rows of `window` clipped to the film.
+    fn window_rows(&self, [x0, y0, x1, y1]: Window) -> impl Iterator<Item = std::ops::Range<usize>> + Clone + use<> {
+        let (x0, x1) = (x0.min(self.width) as usize, x1.min(self.width) as usize);
+        let (y0, y1) = (y0.min(self.height), y1.min(self.height));
+        let width = self.width as usize;
+        (y0..y1).map(move |y| y as usize * width + x0..y as usize * width + x1.max(x0))
     }
 }
 
@@ -139,7 +206,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn passes_accumulate_in_f64_and_average() {
+    fn passes_accumulate_and_average() {
         let mut film = Film::new(2, 1);
         assert_eq!(film.mean(), vec![Vec3::ZERO; 2]);
         film.add_pass(&[Vec3::new(1.0, 2.0, 3.0), Vec3::splat(4.0)], 1).unwrap();
@@ -152,7 +219,7 @@ mod tests {
     }
 
     #[test]
-    fn f64_sums_keep_small_samples_next_to_large_ones() {
+    fn fixed_point_keeps_small_samples_next_to_large_ones() {
         // In f32, 1e8 + 1 == 1e8: the small samples would vanish.
         let mut film = Film::new(1, 1);
         film.add_pass(&[Vec3::splat(1e8)], 1).unwrap();
@@ -162,6 +229,27 @@ mod tests {
         film.add_pass(&[Vec3::splat(-1e8)], 1).unwrap();
         assert_eq!(film.spp(), 1002);
         assert_eq!(film.pixel(0, 0), Some(Vec3::splat((1000.0f64 / 1002.0) as f32)));
+    }
+
+    #[test]
+    fn windows_and_merges_add_per_pixel() {
+        let mut a = Film::new(3, 2);
+        a.add_pass_window(&[Vec3::ONE; 6], 2, [1, 0, 3, 1]).unwrap();
+        let counts = |f: &Film| f.pixels().iter().map(|p| p.samples).collect::<Vec<_>>();
+        assert_eq!(counts(&a), [0, 2, 2, 0, 0, 0]);
+        let tile = [SampleSum { rgb: [1 << 57, 0, 0], samples: 1, invalid: 0 }; 2];
+        a.add_window([0, 1, 2, 2], &tile).unwrap();
+        assert_eq!(counts(&a), [0, 2, 2, 1, 1, 0]);
+        assert_eq!(a.pixel(0, 1), Some(Vec3::new(2.0, 0.0, 0.0)));
+        assert_eq!(a.spp(), 0);
+        let mut b = a.clone();
+        b.merge(&a).unwrap();
+        assert_eq!(counts(&b), [0, 4, 4, 2, 2, 0]);
+        assert_eq!(b.mean(), a.mean());
+        let err = a.add_window([0, 1, 2, 2], &tile[..1]).unwrap_err();
+        assert_eq!(err.to_string(), "1 pixel sums do not fit the window [0, 1, 2, 2] of the 3x2 film");
+        assert!(a.add_window([2, 1, 4, 2], &tile).is_err());
+        assert!(matches!(a.merge(&Film::new(2, 3)), Err(FilmError::MergeSize { .. })));
     }
 
     #[test]

@@ -1,7 +1,8 @@
 //! Film and image output shared by the ggx CPU and GPU path tracers.
 //!
-//! * [`Film`]: per-pixel sums of radiance samples in `f64`, filled one whole pass at a time
-//!   ([`Film::add_pass`]), read back as the mean radiance ([`Film::mean`]).
+//! * [`Film`]: per-pixel sums of radiance samples in 128-bit fixed point ([`SampleSum`]), exact
+//!   under any grouping, filled by passes, tiles ([`Film::add_window`]) or other films
+//!   ([`Film::merge`]), read back as the mean radiance ([`Film::mean`]).
 //! * [`ToneMap`], [`OutputOptions`], [`srgb_encode`] and [`tonemap_to_srgb8`]: exposure, tone
 //!   mapping (fitted ACES, luminance Reinhard, clamp) and sRGB encoding to 8 bits. Every `f32`
 //!   is accepted: NaN and negative values become black, `+inf` becomes full intensity.
@@ -24,9 +25,12 @@ mod display;
 mod error;
 mod exr_io;
 mod film;
+mod film_file;
+mod merge;
 mod metrics;
 mod output;
 mod png_io;
+mod sample_sum;
 mod srgb;
 mod tonemap;
 
@@ -34,9 +38,12 @@ pub use atomic::remove_pending_temp_files;
 pub use display::{OutputOptions, tonemap_to_srgb8};
 pub use error::{FilmError, OutputError, ParseToneMapError};
 pub use exr_io::read_exr;
-pub use film::Film;
+pub use film::{Film, Window};
+pub use film_file::{FilmInfo, read_film, write_film};
+pub use merge::{Merged, Part, merge_films};
 pub use metrics::{ImageMetrics, REL_EPSILON, channel_rel_sq, compare};
 pub use output::{SUPPORTED_EXTENSIONS, check_file, check_output, write_file, write_image};
+pub use sample_sum::{FRACTION_BITS, MAX_SAMPLE, SampleSum};
 pub use srgb::srgb_encode;
 pub use tonemap::ToneMap;
 

@@ -97,7 +97,7 @@ pub fn check_file(path: &Path) -> Result<(), OutputError> {
 }
 
 /// `p * scale` in f64, finite values saturated to `±f32::MAX` (NaN and inf stay as they are).
-fn expose(p: Vec3, scale: f64) -> Vec3 {
+pub(crate) fn expose(p: Vec3, scale: f64) -> Vec3 {
     let one = |c: f32| {
         if !c.is_finite() {
             return c;
