@@ -28,7 +28,7 @@ fn throughput(c: &mut Criterion) {
                     continue;
                 }
                 let id = format!("{name}/{accel:?}/{}", if specialize { "specialized" } else { "generic" });
-                let options = RenderOptions { threads: 0, specialize };
+                let options = RenderOptions { threads: 0, specialize, ..Default::default() };
                 g.bench_function(id, |b| {
                     b.iter(|| renderer.render(&options, &RenderControl::default()).map(|r| r.spp).ok())
                 });

@@ -26,7 +26,7 @@ mod scene_data;
 
 pub use accel::{Accel, AccelKind, Hit};
 pub use ggx_render::{
-    Bsdf, Progress, RenderControl, RenderError, RenderOptions, RenderResult, pass_spp, sampling_for, stream_seed,
+    Bsdf, Job, Progress, RenderControl, RenderError, RenderOptions, RenderResult, pass_end, sampling_for, stream_seed,
 };
 pub use scene_data::SceneData;
 
@@ -57,9 +57,23 @@ impl Renderer {
         &self.data
     }
 
-    /// Renders the scene's `spp` samples per pixel (or until its time budget or `cancel`);
-    /// fails only when the image buffers cannot be allocated.
+    /// Renders the scene's `spp` samples per pixel, or `options.samples` of `options.window`
+    /// (until the time budget or `cancel`); fails only when the image buffers cannot be
+    /// allocated or the range or window do not fit the scene.
     pub fn render(&self, options: &RenderOptions, control: &RenderControl) -> Result<RenderResult, RenderError> {
+        let [w, h] = self.data.camera.resolution;
+        self.render_film(options, control, ggx_render::new_film(w, h)?)
+    }
+
+    /// [`Renderer::render`] continuing `film`: pixel `i` already holds samples
+    /// `[start, start + film[i].samples)` of the range, and gets the rest. The result is the
+    /// same, bit for bit, as a render that was never stopped.
+    pub fn render_film(
+        &self,
+        options: &RenderOptions,
+        control: &RenderControl,
+        film: ggx_film::Film,
+    ) -> Result<RenderResult, RenderError> {
         let never = AtomicBool::new(false);
         let cancel = control.cancel.unwrap_or(&never);
         let (tile_fn, kernel) = render::select_kernel(&self.data.features, options.specialize);
@@ -70,7 +84,7 @@ impl Renderer {
             },
             seed: stream_seed(self.settings.seed),
         };
-        let spp = self.settings.spp.max(1);
+        let job = Job::new(options, self.settings.spp, self.data.camera.resolution)?;
         let budget = ggx_render::time_budget(&self.settings);
         let pool = rayon::ThreadPoolBuilder::new().num_threads(options.threads).build();
         let pool = match pool {
@@ -81,17 +95,29 @@ impl Renderer {
                 Err(_) => return self.empty_result(kernel),
             },
         };
-        let report = |done: u32, elapsed: Duration| {
-            if let Some(p) = control.progress {
-                p(Progress { spp_done: done, spp_target: spp, elapsed });
+        let (pixels, hook) = (job.pixels(), control.progress);
+        let progress = |samples_done: u64, pass_end: bool, elapsed: Duration| {
+            if let Some(p) = hook {
+                p(Progress {
+                    spp_done: u32::try_from(samples_done / pixels.max(1)).unwrap_or(u32::MAX),
+                    spp_target: job.spp(),
+                    samples_done,
+                    samples_target: u64::from(job.spp()) * pixels,
+                    pass_end,
+                    elapsed,
+                });
             }
         };
-        let outcome = render::run(&self.data, tile_fn, sampling, spp, budget, &pool, cancel, &report)?;
-        let [w, h] = self.data.camera.resolution;
-        let done = outcome.film.spp();
+        let pass_film = |film: &ggx_film::Film| {
+            if let Some(f) = control.pass_film {
+                f(film);
+            }
+        };
+        let report = render::Reporting { progress: &progress, pass_film: &pass_film };
+        let outcome = render::run(&self.data, tile_fn, sampling, job, film, budget, &pool, cancel, &report)?;
         Ok(RenderResult {
-            camera_samples: done as u64 * w as u64 * h as u64,
-            spp: done,
+            camera_samples: outcome.camera_samples,
+            spp: render::lowest_held(&outcome.film, job.window),
             film: outcome.film,
             elapsed: outcome.elapsed,
             rays: outcome.rays,

@@ -1,18 +1,19 @@
-//! The render loop: passes of whole samples per pixel over 16x16 tiles on a rayon pool.
+//! The render loop: passes over 16x16 tiles on a rayon pool, per pixel from the samples the
+//! film holds to the pass's end.
 //!
-//! Determinism: sample `s` of pixel `i` always uses `SampleStream::new(kind, seed, i, s)`,
-//! each pixel's samples are summed in index order inside one tile, and the pass schedule
-//! (1, 1, 2, 4, 8, 16, 16, ... samples) does not depend on timing. The image therefore
-//! depends only on the scene and its seed, never on the thread count or tile order. Only a
+//! Determinism: sample `s` of pixel `i` always uses `SampleStream::new(kind, seed, i, s)` and
+//! the film sums samples exactly ([`ggx_film::SampleSum`]), so the image depends only on the
+//! scene, its seed and the samples held: never on the thread count, the tile order, the pass
+//! schedule, how a sample range was split across runs or where a render was resumed. Only a
 //! time budget, which ends the render after however many passes fit, depends on the clock.
 
 use crate::integrator::{Counters, trace};
 use crate::scene_data::SceneData;
 use ggx_core::{SampleStream, SequenceKind};
-use ggx_film::Film;
-use ggx_render::{KernelVariant, RenderError, new_film, pass_spp};
+use ggx_film::{Film, SampleSum, Window};
+use ggx_render::{Job, KernelVariant, RenderError, pass_end};
 use ggx_scene::SceneFeatures;
-use glam::{Vec2, Vec3};
+use glam::Vec2;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
@@ -29,33 +30,48 @@ pub struct Sampling {
     pub seed: u32,
 }
 
-/// One tile of one pass: per-pixel radiance sums, or `None` if the render was cancelled.
-type TileFn = fn(&SceneData, Sampling, [u32; 4], (u32, u32), &AtomicBool, &AtomicU64) -> Option<Vec<Vec3>>;
+/// What a tile renders: pixel `i` of `rect` from sample `start + film[i].samples` up to `to`.
+#[derive(Clone, Copy)]
+pub struct TileWork<'a> {
+    /// The tile `[x0, y0, x1, y1)`.
+    pub rect: Window,
+    /// The film so far (read only during a pass).
+    pub film: &'a Film,
+    /// The first sample of the render's range.
+    pub start: u32,
+    /// The end of this pass.
+    pub to: u32,
+}
 
-/// Renders samples `[s0, s1)` of every pixel of the tile `[x0, y0, x1, y1)`.
+/// One tile of one pass: per-pixel sums of the new samples, or `None` if the render was
+/// cancelled before the tile started.
+type TileFn = fn(&SceneData, Sampling, TileWork<'_>, &AtomicBool, &AtomicU64) -> Option<Vec<SampleSum>>;
+
+/// Renders one tile's pixels from the samples they hold to `work.to`.
 fn render_tile<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELECTRIC: bool>(
     scene: &SceneData,
     sampling: Sampling,
-    [x0, y0, x1, y1]: [u32; 4],
-    (s0, s1): (u32, u32),
+    work: TileWork<'_>,
     cancel: &AtomicBool,
     rays: &AtomicU64,
-) -> Option<Vec<Vec3>> {
+) -> Option<Vec<SampleSum>> {
     if cancel.load(Ordering::Relaxed) {
         return None;
     }
+    let [x0, y0, x1, y1] = work.rect;
     let width = scene.camera.resolution[0];
     let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
     let mut counters = Counters::default();
     for y in y0..y1 {
         for x in x0..x1 {
             let pixel = y * width + x;
-            let mut sum = Vec3::ZERO;
-            for s in s0..s1 {
+            let held = work.film.pixels().get(pixel as usize).map_or(0, |p| p.samples);
+            let mut sum = SampleSum::default();
+            for s in work.start.saturating_add(held)..work.to {
                 let mut stream = SampleStream::new(sampling.kind, sampling.seed, pixel, s);
                 let jitter = stream.next_2d();
                 let (origin, dir) = scene.camera.generate_ray(Vec2::new(x as f32, y as f32) + jitter);
-                sum += trace::<AREA, ENV, PLASTIC, DIELECTRIC>(scene, origin, dir, &mut stream, &mut counters);
+                sum.add(trace::<AREA, ENV, PLASTIC, DIELECTRIC>(scene, origin, dir, &mut stream, &mut counters));
             }
             out.push(sum);
         }
@@ -93,85 +109,115 @@ pub struct Outcome {
     pub film: Film,
     /// Whether the cancel flag stopped the render early.
     pub interrupted: bool,
+    /// Camera samples traced.
+    pub camera_samples: u64,
     /// Rays traced (closest-hit and shadow).
     pub rays: u64,
     /// Wall time.
     pub elapsed: Duration,
 }
 
-/// Renders up to `spp` samples per pixel, in passes, stopping early on `cancel` or when the
-/// time budget would be exceeded. `progress(spp_done, elapsed)` runs after each pass.
+/// How a render reports: `progress(film_samples, pass_end, elapsed)` as tiles finish (from
+/// worker threads) and `pass_film(film)` after each pass.
+pub struct Reporting<'a> {
+    /// Camera samples the film holds inside the window, whether a pass just ended, the time.
+    pub progress: &'a (dyn Fn(u64, bool, Duration) + Sync),
+    /// The film after each pass.
+    pub pass_film: &'a dyn Fn(&Film),
+}
+
+/// Renders `job` into `film` (which may hold samples already: a resumed render), in passes
+/// that end at [`pass_end`] boundaries, stopping early on `cancel` (the finished tiles of the
+/// pass in flight are kept) or when the time budget would be exceeded.
 #[allow(clippy::too_many_arguments)]
 pub fn run(
     scene: &SceneData,
     tile_fn: TileFn,
     sampling: Sampling,
-    spp: u32,
+    job: Job,
+    mut film: Film,
     budget: Option<Duration>,
     pool: &rayon::ThreadPool,
     cancel: &AtomicBool,
-    progress: &dyn Fn(u32, Duration),
+    report: &Reporting<'_>,
 ) -> Result<Outcome, RenderError> {
     let start = Instant::now();
-    let [width, height] = scene.camera.resolution;
-    let mut film = new_film(width, height)?;
-    let tiles: Vec<[u32; 4]> = (0..height.div_ceil(TILE))
-        .flat_map(|ty| {
-            (0..width.div_ceil(TILE))
-                .map(move |tx| [tx * TILE, ty * TILE, ((tx + 1) * TILE).min(width), ((ty + 1) * TILE).min(height)])
-        })
+    let [wx0, wy0, wx1, wy1] = job.window;
+    let tiles: Vec<Window> = (wy0..wy1)
+        .step_by(TILE as usize)
+        .flat_map(|y| (wx0..wx1).step_by(TILE as usize).map(move |x| [x, y, (x + TILE).min(wx1), (y + TILE).min(wy1)]))
         .collect();
-    let rays = AtomicU64::new(0);
-    // The film's length is the pixel count, and it was allocated: so can the pass be.
-    let mut pass_buffer = Vec::new();
-    pass_buffer.try_reserve_exact(film.len()).map_err(|_| RenderError::Film {
-        width,
-        height,
-        source: ggx_film::FilmError::TooLarge { width, height },
-    })?;
-    pass_buffer.resize(film.len(), Vec3::ZERO);
-    let (mut done, mut k, mut interrupted) = (0u32, 0u32, false);
-    while done < spp {
-        let mut n = pass_spp(k).min(spp - done);
+    let held = job.check_film(&film, scene.camera.resolution)?;
+    let (rays, traced) = (AtomicU64::new(0), AtomicU64::new(0));
+    let mut interrupted = false;
+    loop {
+        let lowest = lowest_held(&film, job.window).saturating_add(job.samples[0]);
+        if lowest >= job.samples[1] {
+            break;
+        }
+        let mut to = pass_end(lowest).min(job.samples[1]);
         if let Some(budget) = budget {
-            let elapsed = start.elapsed();
+            let (elapsed, done) = (start.elapsed(), traced.load(Ordering::Relaxed));
             if done > 0 {
                 // Fit the next pass into the remaining time at the measured rate.
-                let per_spp = elapsed.as_secs_f64() / done as f64;
-                let left = budget.as_secs_f64() - elapsed.as_secs_f64();
-                let fit = (left / per_spp).floor();
+                let per_spp = elapsed.as_secs_f64() / (done as f64 / job.pixels() as f64);
+                let fit = ((budget.as_secs_f64() - elapsed.as_secs_f64()) / per_spp).floor();
                 if fit < 1.0 {
                     break;
                 }
-                n = n.min(fit as u32);
+                to = to.min(lowest.saturating_add(fit as u32));
             }
         }
-        let results: Vec<Option<Vec<Vec3>>> = pool.install(|| {
-            tiles.par_iter().map(|&t| tile_fn(scene, sampling, t, (done, done + n), cancel, &rays)).collect()
+        let results: Vec<Option<Vec<SampleSum>>> = pool.install(|| {
+            tiles
+                .par_iter()
+                .map(|&rect| {
+                    let sums = tile_fn(
+                        scene,
+                        sampling,
+                        TileWork { rect, film: &film, start: job.samples[0], to },
+                        cancel,
+                        &rays,
+                    )?;
+                    let n: u64 = sums.iter().map(|s| u64::from(s.samples)).sum();
+                    let total = traced.fetch_add(n, Ordering::Relaxed) + n;
+                    (report.progress)(held + total, false, start.elapsed());
+                    Some(sums)
+                })
+                .collect()
         });
+        for (rect, sums) in tiles.iter().zip(&results) {
+            if let Some(sums) = sums {
+                // Sizes match by construction and counts stay within the range.
+                film.add_window(*rect, sums).map_err(|e| RenderError::Job(e.to_string()))?;
+            }
+        }
         if results.iter().any(Option::is_none) {
             interrupted = true;
             break;
         }
-        for (tile, sums) in tiles.iter().zip(results.into_iter().flatten()) {
-            let [x0, y0, x1, _] = *tile;
-            let w = (x1 - x0) as usize;
-            for (row, chunk) in sums.chunks(w).enumerate() {
-                let start = ((y0 as usize + row) * width as usize) + x0 as usize;
-                pass_buffer[start..start + w].copy_from_slice(chunk);
-            }
-        }
-        // Lengths match by construction; an error here would be a bug in the tiling.
-        if film.add_pass(&pass_buffer, n).is_err() {
-            break;
-        }
-        done += n;
-        k += 1;
-        progress(done, start.elapsed());
+        (report.progress)(held + traced.load(Ordering::Relaxed), true, start.elapsed());
+        (report.pass_film)(&film);
         if cancel.load(Ordering::Relaxed) {
-            interrupted = done < spp;
+            interrupted = lowest_held(&film, job.window).saturating_add(job.samples[0]) < job.samples[1];
             break;
         }
     }
-    Ok(Outcome { film, interrupted, rays: rays.load(Ordering::Relaxed), elapsed: start.elapsed() })
+    Ok(Outcome {
+        film,
+        interrupted,
+        camera_samples: traced.load(Ordering::Relaxed),
+        rays: rays.load(Ordering::Relaxed),
+        elapsed: start.elapsed(),
+    })
+}
+
+/// The fewest samples a pixel of `window` holds.
+pub fn lowest_held(film: &Film, [x0, y0, x1, y1]: Window) -> u32 {
+    let width = film.width() as usize;
+    (y0..y1)
+        .flat_map(|y| film.pixels()[y as usize * width + x0 as usize..y as usize * width + x1 as usize].iter())
+        .map(|p| p.samples)
+        .min()
+        .unwrap_or(0)
 }

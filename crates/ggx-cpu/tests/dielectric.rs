@@ -146,7 +146,9 @@ fn glass_is_bit_identical_for_any_thread_count_and_kernel() {
     scene.integrator.spp = 4;
     let renderer = Renderer::new(&scene, AccelKind::Cwbvh);
     let image = |threads, specialize| {
-        let r = renderer.render(&RenderOptions { threads, specialize }, &RenderControl::default()).unwrap();
+        let r = renderer
+            .render(&RenderOptions { threads, specialize, ..Default::default() }, &RenderControl::default())
+            .unwrap();
         assert_eq!(r.kernel, if specialize { "area+env+dielectric" } else { "area+env+plastic+dielectric" });
         r.film.mean().iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<u32>>()
     };

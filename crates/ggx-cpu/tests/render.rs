@@ -263,7 +263,9 @@ fn image_is_bit_identical_for_any_thread_count_and_kernel() {
     scene.integrator.spp = 6;
     let renderer = Renderer::new(&scene, AccelKind::Cwbvh);
     let image = |threads, specialize| {
-        let r = renderer.render(&RenderOptions { threads, specialize }, &RenderControl::default()).unwrap();
+        let r = renderer
+            .render(&RenderOptions { threads, specialize, ..Default::default() }, &RenderControl::default())
+            .unwrap();
         r.film.mean().iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<u32>>()
     };
     let one = image(1, true);
@@ -286,12 +288,15 @@ fn cancelling_keeps_the_completed_passes() {
     let renderer = Renderer::new(&scene, AccelKind::Cwbvh);
     let cancel = AtomicBool::new(false);
     let stop_after_first = |p: ggx_cpu::Progress| {
-        if p.spp_done >= 2 {
+        if p.pass_end && p.spp_done >= 2 {
             cancel.store(true, Ordering::Relaxed);
         }
     };
     let r = renderer
-        .render(&RenderOptions::default(), &RenderControl { cancel: Some(&cancel), progress: Some(&stop_after_first) })
+        .render(
+            &RenderOptions::default(),
+            &RenderControl { cancel: Some(&cancel), progress: Some(&stop_after_first), pass_film: None },
+        )
         .unwrap();
     assert!(r.interrupted);
     assert_eq!(r.spp, 2, "passes 1 + 1 completed before the flag was seen");
@@ -299,7 +304,7 @@ fn cancelling_keeps_the_completed_passes() {
 
     let cancelled = AtomicBool::new(true);
     let r = renderer
-        .render(&RenderOptions::default(), &RenderControl { cancel: Some(&cancelled), progress: None })
+        .render(&RenderOptions::default(), &RenderControl { cancel: Some(&cancelled), progress: None, pass_film: None })
         .unwrap();
     assert!(r.interrupted && r.spp == 0);
 }

@@ -4,7 +4,7 @@
 //!
 //! * the interface every backend implements: [`RenderOptions`] and [`RenderControl`] in,
 //!   [`Progress`] during, [`RenderResult`] or [`RenderError`] out;
-//! * the pass schedule ([`pass_spp`]), the stream seed ([`stream_seed`]) and the time budget
+//! * the pass schedule ([`pass_end`]), the stream seed ([`stream_seed`]) and the time budget
 //!   ([`time_budget`]), which make the CPU and GPU backends trace the same samples;
 //! * the scene's materials as ggx-core BSDFs ([`Bsdf`]), shared by the CPU kernels and the
 //!   GPU upload;
@@ -18,6 +18,6 @@ mod kernel;
 mod schedule;
 
 pub use bsdf::{Bsdf, sampling_for};
-pub use interface::{Progress, RenderControl, RenderError, RenderOptions, RenderResult, new_film};
+pub use interface::{Job, Progress, RenderControl, RenderError, RenderOptions, RenderResult, new_film};
 pub use kernel::KernelVariant;
-pub use schedule::{MAX_PASS_SPP, pass_spp, stream_seed, time_budget};
+pub use schedule::{MAX_PASS_SPP, pass_end, stream_seed, time_budget};

@@ -8,10 +8,13 @@ use ggx_scene::IntegratorSettings;
 /// Largest number of samples per pixel in one pass.
 pub const MAX_PASS_SPP: u32 = 16;
 
-/// Samples per pixel of pass `k`: 1, 1, 2, 4, 8, 16, 16, … (early passes give a quick first
-/// image and a rate estimate for the time budget).
-pub fn pass_spp(k: u32) -> u32 {
-    if k == 0 { 1 } else { (1u32 << (k - 1).min(4)).min(MAX_PASS_SPP) }
+/// The end of the pass that holds sample `s`: passes end at samples 1, 2, 4, 8, 16 and then
+/// every 16 (`MAX_PASS_SPP`), so the passes are 1, 1, 2, 4, 8, 16, 16, ... samples from 0 (early
+/// passes give a quick first image and a rate estimate for the time budget). The boundaries
+/// are absolute: a render of samples `[A, B)` stops at the same ones, so its passes are those
+/// of a render from 0 (the GPU sums a pass in `f32`: same passes, same bits).
+pub fn pass_end(s: u32) -> u32 {
+    if s < MAX_PASS_SPP { (s + 1).next_power_of_two() } else { (s / MAX_PASS_SPP + 1).saturating_mul(MAX_PASS_SPP) }
 }
 
 /// The 32-bit seed of the sample streams: the scene's seed, which the scene loader and the
@@ -33,9 +36,13 @@ mod tests {
 
     #[test]
     fn passes_double_up_to_sixteen() {
-        let passes: Vec<u32> = (0..8).map(pass_spp).collect();
-        assert_eq!(passes, [1, 1, 2, 4, 8, 16, 16, 16]);
-        assert_eq!(pass_spp(u32::MAX), MAX_PASS_SPP);
+        let mut ends = vec![0];
+        while ends.len() < 9 {
+            ends.push(pass_end(*ends.last().unwrap()));
+        }
+        assert_eq!(ends, [0, 1, 2, 4, 8, 16, 32, 48, 64]);
+        assert_eq!((pass_end(3), pass_end(5), pass_end(17), pass_end(47)), (4, 8, 32, 48));
+        assert_eq!(pass_end(u32::MAX - 3), u32::MAX);
     }
 
     #[test]

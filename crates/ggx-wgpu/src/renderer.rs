@@ -1,21 +1,44 @@
 //! [`WgpuRenderer`]: the render loop of ggx-cpu on a wgpu adapter, through ggx-render's
 //! interface. Same pass schedule
-//! ([`ggx_render::pass_spp`]), same sample streams, same integrator; each pass is split
+//! ([`ggx_render::pass_end`]), same sample streams, same integrator; each pass is split
 //! into dispatches of at most [`DISPATCH_PATHS`] paths so that no dispatch runs long, and the
-//! per-pixel sums are read back after every pass and added to a [`Film`].
+//! per-pixel sums are read back after every pass and added to a [`Film`]. A render of a sample
+//! range or a pixel window dispatches the window's rows only (the columns outside it are
+//! traced and dropped); a cancelled pass keeps its finished rows.
 
 use crate::bvh_flat::STACK_SIZE;
 use crate::context::{GpuContext, GpuError};
 use crate::gpu_scene::GpuScene;
 use crate::scene_upload::{Params, SceneTables};
+use ggx_film::{Film, Window};
 use ggx_render::{
-    KernelVariant, Progress, RenderControl, RenderOptions, RenderResult, new_film, pass_spp, time_budget,
+    Job, KernelVariant, Progress, RenderControl, RenderError, RenderOptions, RenderResult, new_film, pass_end,
+    time_budget,
 };
 use ggx_scene::{IntegratorSettings, Scene, SceneFeatures};
 use glam::Vec3;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 use std::time::Instant;
+
+/// `(y, samples)` for each row of `window`: the count its pixels hold, which must be the
+/// same across the row.
+fn row_counts(film: &Film, [x0, y0, x1, y1]: Window) -> Result<Vec<(u32, u32)>, GpuError> {
+    let width = film.width() as usize;
+    (y0..y1)
+        .map(|y| {
+            let row = &film.pixels()[y as usize * width + x0 as usize..y as usize * width + x1 as usize];
+            let n = row.first().map_or(0, |p| p.samples);
+            if row.iter().any(|p| p.samples != n) {
+                return Err(GpuError::Render(RenderError::Job(format!(
+                    "row {y} of the film to continue holds different sample counts (a CPU render stopped mid-pass): \
+                     continue it with --backend cpu"
+                ))));
+            }
+            Ok((y, n))
+        })
+        .collect()
+}
 
 /// Most camera paths (pixels times samples) one dispatch traces.
 pub const DISPATCH_PATHS: u64 = 1 << 18;
@@ -71,67 +94,121 @@ impl<'a> WgpuRenderer<'a> {
         KernelVariant::for_scene(&self.features, specialize)
     }
 
-    /// Renders the scene's `spp` samples per pixel (or until its time budget or `cancel`,
-    /// checked between dispatches), in ggx-render's passes. `options.threads` is ignored;
-    /// `elapsed` excludes the pipeline compilation.
+    /// Renders the scene's `spp` samples per pixel, or `options.samples` of `options.window`
+    /// (until its time budget or `cancel`, checked between dispatches), in ggx-render's passes.
+    /// `options.threads` is ignored; `elapsed` excludes the pipeline compilation.
     pub fn render(&self, options: &RenderOptions, control: &RenderControl) -> Result<RenderResult, GpuError> {
+        self.render_film(options, control, new_film(self.params.width, self.params.height)?)
+    }
+
+    /// [`WgpuRenderer::render`] continuing `film` (pixel `i` holds samples
+    /// `[start, start + film[i].samples)` of the range). Every pixel of a window row must hold
+    /// the same count (a GPU pass covers whole rows): films this backend wrote always do.
+    pub fn render_film(
+        &self,
+        options: &RenderOptions,
+        control: &RenderControl,
+        mut film: Film,
+    ) -> Result<RenderResult, GpuError> {
         let variant = self.variant(options.specialize);
+        let (width, height) = (self.params.width, self.params.height);
+        let job = Job::new(options, self.settings.spp, [width, height])?;
+        let held = job.check_film(&film, [width, height])?;
+        let mut rows = row_counts(&film, job.window)?;
         // Compiled (once per variant) before the clock starts, like ggx-cpu's BVH build.
         let pipeline = self.gpu.pipeline(self.ctx, variant)?;
         let start = Instant::now();
         let never = AtomicBool::new(false);
         let cancel = control.cancel.unwrap_or(&never);
-        let (width, height) = (self.params.width, self.params.height);
-        let spp = self.settings.spp.max(1);
         let budget = time_budget(&self.settings);
-        let mut film = new_film(width, height)?;
-        let (mut done, mut k, mut rays, mut interrupted) = (0u32, 0u32, 0u64, false);
+        let [wx0, _, wx1, _] = job.window;
+        let (mut traced, mut rays, mut interrupted) = (0u64, 0u64, false);
         // Paths per dispatch, adapted to the adapter's speed (the image does not depend on it).
         let mut paths = FIRST_DISPATCH_PATHS.min(self.dispatch_paths);
-        'passes: while done < spp {
-            let mut n = pass_spp(k).min(spp - done);
+        let report = |traced: u64, pass_end: bool, film_spp: u32| {
+            if let Some(p) = control.progress {
+                p(Progress {
+                    spp_done: film_spp,
+                    spp_target: job.spp(),
+                    samples_done: held + traced,
+                    samples_target: u64::from(job.spp()) * job.pixels(),
+                    pass_end,
+                    elapsed: start.elapsed(),
+                });
+            }
+        };
+        'passes: loop {
+            let lowest = rows.iter().map(|r| r.1).min().unwrap_or(u32::MAX).saturating_add(job.samples[0]);
+            if lowest >= job.samples[1] {
+                break;
+            }
+            let mut to = pass_end(lowest).min(job.samples[1]);
             if let Some(budget) = budget
-                && done > 0
+                && traced > 0
             {
                 let elapsed = start.elapsed().as_secs_f64();
-                let fit = ((budget.as_secs_f64() - elapsed) / (elapsed / f64::from(done))).floor();
+                let per_spp = elapsed / (traced as f64 / job.pixels() as f64);
+                let fit = ((budget.as_secs_f64() - elapsed) / per_spp).floor();
                 if fit < 1.0 {
                     break;
                 }
-                n = n.min(fit as u32);
+                to = to.min(lowest.saturating_add(fit as u32));
             }
+            // Bands of window rows that hold the lowest count, each one dispatch or more.
+            let mut finished: Vec<(u32, u32)> = Vec::new();
+            let n = to - lowest;
             let row_paths = u64::from(width) * u64::from(n);
-            let mut y0 = 0;
-            while y0 < height {
+            let mut i = 0;
+            while i < rows.len() {
+                if rows[i].1.saturating_add(job.samples[0]) != lowest {
+                    i += 1;
+                    continue;
+                }
                 if cancel.load(Ordering::Relaxed) {
                     interrupted = true;
-                    break 'passes;
+                    break;
                 }
-                let rows = (paths / row_paths).clamp(1, u64::from(height - y0)) as u32;
-                let params = Params { y0, rows, s0: done, s1: done + n, ..self.params };
+                let band = rows[i..].iter().take_while(|r| r.1 == rows[i].1).count() as u64;
+                let count = (paths / row_paths).clamp(1, band) as u32;
+                let y0 = rows[i].0;
+                let params = Params { y0, rows: count, s0: lowest, s1: to, ..self.params };
                 let dispatch_start = Instant::now();
                 self.dispatch(&pipeline, &params)?;
                 let seconds = dispatch_start.elapsed().as_secs_f64().max(1e-6);
-                let rate = (u64::from(rows) * row_paths) as f64 / seconds;
+                let rate = (u64::from(count) * row_paths) as f64 / seconds;
                 paths = ((rate * DISPATCH_SECONDS) as u64).clamp(1, self.dispatch_paths);
-                y0 += rows;
+                finished.push((y0, y0 + count));
+                traced += u64::from(count) * u64::from(wx1 - wx0) * u64::from(n);
+                report(traced, false, rows.iter().map(|r| r.1).min().unwrap_or(0));
+                i += count as usize;
             }
-            let (sums, pass_rays) = self.read_back()?;
-            rays += pass_rays;
-            film.add_pass(&sums, n).map_err(|e| GpuError::Wgpu(e.to_string()))?;
-            done += n;
-            k += 1;
-            if let Some(p) = control.progress {
-                p(Progress { spp_done: done, spp_target: spp, elapsed: start.elapsed() });
+            if !finished.is_empty() {
+                let (sums, pass_rays) = self.read_back()?;
+                rays += pass_rays;
+                for &(y0, y1) in &finished {
+                    let window: Window = [wx0, y0, wx1, y1];
+                    film.add_pass_window(&sums, n, window)
+                        .map_err(|e| GpuError::Render(RenderError::Job(e.to_string())))?;
+                    for row in rows.iter_mut().filter(|r| (y0..y1).contains(&r.0)) {
+                        row.1 += n;
+                    }
+                }
+            }
+            if interrupted {
+                break 'passes;
+            }
+            report(traced, true, rows.iter().map(|r| r.1).min().unwrap_or(0));
+            if let Some(f) = control.pass_film {
+                f(&film);
             }
             if cancel.load(Ordering::Relaxed) {
-                interrupted = done < spp;
+                interrupted = rows.iter().any(|r| r.1.saturating_add(job.samples[0]) < job.samples[1]);
                 break;
             }
         }
         Ok(RenderResult {
-            camera_samples: u64::from(done) * u64::from(width) * u64::from(height),
-            spp: done,
+            camera_samples: traced,
+            spp: rows.iter().map(|r| r.1).min().unwrap_or(0),
             film,
             elapsed: start.elapsed(),
             rays,

@@ -166,11 +166,75 @@ fn generic_kernel_cancel_and_progress() {
     let cancel = std::sync::atomic::AtomicBool::new(false);
     let passes = std::sync::Mutex::new(Vec::new());
     let progress = |p: ggx_cpu::Progress| {
-        passes.lock().unwrap().push(p.spp_done);
-        cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+        if p.pass_end {
+            passes.lock().unwrap().push(p.spp_done);
+            cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+        }
     };
-    let control = RenderControl { cancel: Some(&cancel), progress: Some(&progress) };
+    let control = RenderControl { cancel: Some(&cancel), progress: Some(&progress), pass_film: None };
     let cut = renderer.render(&RenderOptions::default(), &control).expect("render");
     assert_eq!((cut.spp, cut.interrupted), (1, true));
     assert_eq!(*passes.lock().unwrap(), [1]);
+
+    // Cancelled after the first dispatch of a pass: its finished rows are kept.
+    let cancel = std::sync::atomic::AtomicBool::new(false);
+    let progress = |_: ggx_cpu::Progress| cancel.store(true, std::sync::atomic::Ordering::Relaxed);
+    let control = RenderControl { cancel: Some(&cancel), progress: Some(&progress), pass_film: None };
+    let cut = split.render(&RenderOptions::default(), &control).expect("render");
+    let counts: Vec<u32> = cut.film.pixels().iter().map(|p| p.samples).collect();
+    assert_eq!((cut.spp, cut.interrupted), (0, true));
+    assert_eq!(&counts[..6 * 16], &[1; 96][..], "the first dispatch's 6 rows");
+    assert!(counts[6 * 16..].iter().all(|&n| n == 0));
+    assert_eq!(&cut.film.pixels()[..96], &specialized_first_pass(&renderer)[..96]);
+}
+
+/// The film of samples `[0, 1)` of every pixel.
+fn specialized_first_pass(renderer: &WgpuRenderer<'_>) -> Vec<ggx_film::SampleSum> {
+    let options = RenderOptions { samples: Some([0, 1]), ..Default::default() };
+    renderer.render(&options, &RenderControl::default()).expect("render").film.pixels().to_vec()
+}
+
+/// Sample ranges split at pass boundaries merge into the single render bit for bit (a GPU pass
+/// sums its samples in `f32`, so the same passes give the same sums); a film is continued on
+/// the GPU to the same bits; a pixel window renders only its pixels.
+#[test]
+fn ranges_windows_and_resumes_on_the_gpu() {
+    let ctx = match GpuContext::new(GpuOptions::default()) {
+        Ok(ctx) => ctx,
+        Err(e) if e.is_no_adapter() && std::env::var("CI").as_deref() != Ok("true") => {
+            eprintln!("\n*** SKIPPING the GPU range test: {e}\n*** (set CI=true to make this a failure)\n");
+            return;
+        }
+        Err(e) => panic!("no GPU context: {e}"),
+    };
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/three-spheres.toml");
+    let mut scene = ggx_scene::load_scene(&path).expect("scene loads");
+    scene.camera.resolution = [20, 14];
+    scene.integrator.spp = 48;
+    let renderer = WgpuRenderer::new(&scene, &ctx).expect("upload").with_dispatch_paths(500);
+    let control = RenderControl::default();
+    let range = |samples: [u32; 2], window: Option<[u32; 4]>| {
+        let options = RenderOptions { samples: Some(samples), window, ..Default::default() };
+        renderer.render(&options, &control).expect("render").film
+    };
+    let whole = range([0, 48], None);
+    for splits in [[0, 16, 48], [0, 32, 48], [0, 8, 48]] {
+        let mut merged = range([splits[0], splits[1]], None);
+        merged.merge(&range([splits[1], splits[2]], None)).unwrap();
+        assert_eq!(merged, whole, "{splits:?}");
+    }
+    let mut windows = range([0, 48], Some([0, 0, 20, 5]));
+    assert!(windows.pixels()[5 * 20..].iter().all(|p| p.samples == 0));
+    windows.merge(&range([0, 48], Some([0, 5, 20, 14]))).unwrap();
+    assert_eq!(windows, whole);
+    // Continue the first 16 samples to 48.
+    let options = RenderOptions { samples: Some([0, 48]), ..Default::default() };
+    let resumed = renderer.render_film(&options, &control, range([0, 16], None)).expect("render");
+    assert_eq!(resumed.film, whole);
+    assert_eq!(resumed.camera_samples, 32 * 20 * 14);
+    // A film whose rows hold different counts in one row cannot be continued on the GPU.
+    let mut ragged = range([0, 16], None);
+    ragged.pixels_mut()[3] = ggx_film::SampleSum::default();
+    let err = renderer.render_film(&options, &control, ragged).err().expect("refused").to_string();
+    assert!(err.contains("continue it with --backend cpu"), "{err}");
 }
