@@ -1,10 +1,7 @@
-//! `[camera]`: a pinhole perspective camera and primary-ray generation.
+//! `[camera]`: a pinhole perspective camera, primary-ray generation, and the pose (eye,
+//! target, up hint, field of view) a camera is built from.
 
 use glam::{Vec2, Vec3};
-
-use crate::check::Interval;
-use crate::error::{ErrorKind, SceneError, Source};
-use crate::raw::RawCamera;
 
 /// Largest accepted image width or height, in pixels.
 pub const MAX_RESOLUTION: u32 = 16384;
@@ -59,31 +56,6 @@ impl Camera {
         let x = (2.0 * pixel.x / w - 1.0) * t * self.aspect();
         let y = (1.0 - 2.0 * pixel.y / h) * t;
         (self.position, (self.forward + x * self.right + y * self.up).normalize())
-    }
-
-    /// Validates `[camera]`.
-    pub(crate) fn from_raw(src: Source<'_>, raw: &RawCamera) -> Result<Self, SceneError> {
-        let position = Vec3::from(src.array(&raw.position, "camera.position", Interval::ANY)?);
-        let look_at = Vec3::from(src.array(&raw.look_at, "camera.look_at", Interval::ANY)?);
-        let up = raw.up.as_ref().map_or(Ok([0.0, 1.0, 0.0]), |up| src.array(up, "camera.up", Interval::ANY))?;
-        let fov = src.number_or(raw.fov_y.as_ref(), 40.0, "camera.fov_y", Interval::open(0.0, 180.0))?;
-        let resolution = match &raw.resolution {
-            None => [256, 256],
-            Some(r) => {
-                let [w, h] = *r.get_ref();
-                if !(1..=MAX_RESOLUTION).contains(&w) || !(1..=MAX_RESOLUTION).contains(&h) {
-                    let msg = format!("width and height must be in [1, {MAX_RESOLUTION}], got [{w}, {h}]");
-                    return Err(src.error(r.span(), "camera.resolution", ErrorKind::OutOfRange, msg));
-                }
-                [w, h]
-            }
-        };
-        check_distance(src, raw, position, look_at)?;
-        Self::look_at(position, look_at, Vec3::from(up), fov, resolution).ok_or_else(|| {
-            let span = raw.up.as_ref().map_or(raw.look_at.span(), |u| u.span());
-            let msg = "up must be non-zero and not parallel to the view direction";
-            src.error(span, "camera.up", ErrorKind::Degenerate, msg)
-        })
     }
 }
 
@@ -141,25 +113,78 @@ mod f64x3 {
     }
 }
 
-/// Checks that the view direction `look_at - position` exists in `f32`: its components must
-/// not overflow (the farther of the two points is blamed), and `look_at` must be farther
-/// from `position` than `f32` can resolve at that distance from the origin.
-fn check_distance(src: Source<'_>, raw: &RawCamera, position: Vec3, look_at: Vec3) -> Result<(), SceneError> {
+/// Where a camera is and where it looks, before its basis is built: `[camera]`, one of its
+/// `[[camera.keys]]`, or a pose interpolated between keys.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraPose {
+    /// Eye position (world space).
+    pub position: Vec3,
+    /// The point the camera looks at.
+    pub look_at: Vec3,
+    /// Up hint: any vector not parallel to the view direction.
+    pub up: Vec3,
+    /// Vertical field of view in degrees, in (0, 180).
+    pub fov_y_degrees: f32,
+}
+
+/// Why a [`CameraPose`] makes no camera; each message says what is wrong.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum PoseProblem {
+    /// `look_at - position` does not exist in `f32`: a point is not finite, or the two are
+    /// too far apart. `position` is true when the position is to blame (it is the farther
+    /// from the origin), false for `look_at`.
+    Apart {
+        /// Whether the position (rather than `look_at`) is to blame.
+        position: bool,
+        /// What is wrong.
+        message: String,
+    },
+    /// `position` and `look_at` coincide in `f32` precision.
+    Coincide(String),
+    /// `up` is zero or parallel to the view direction.
+    Up(String),
+}
+
+impl PoseProblem {
+    /// What is wrong.
+    pub fn message(&self) -> &str {
+        match self {
+            Self::Apart { message, .. } | Self::Coincide(message) | Self::Up(message) => message,
+        }
+    }
+}
+
+impl CameraPose {
+    /// The camera of this pose at `resolution`: [`Camera::look_at`] once `look_at - position`
+    /// is known to exist in `f32` (finite, and longer than `1e-6` times the position's largest
+    /// coordinate, at least 1).
+    pub(crate) fn camera(&self, resolution: [u32; 2]) -> Result<Camera, PoseProblem> {
+        check_distance(self.position, self.look_at)?;
+        Camera::look_at(self.position, self.look_at, self.up, self.fov_y_degrees, resolution)
+            .ok_or_else(|| PoseProblem::Up("up must be non-zero and not parallel to the view direction".to_owned()))
+    }
+}
+
+/// Checks that the view direction `look_at - position` exists in `f32`: both points finite,
+/// its components not overflowing (the farther of the two points is blamed), and `look_at`
+/// farther from `position` than `f32` can resolve at that distance from the origin.
+fn check_distance(position: Vec3, look_at: Vec3) -> Result<(), PoseProblem> {
+    for (point, name, is_position) in [(position, "position", true), (look_at, "look_at", false)] {
+        if !point.is_finite() {
+            let message = format!("{name} {point} is not finite in f32 (the interpolation overshoots f32's range)");
+            return Err(PoseProblem::Apart { position: is_position, message });
+        }
+    }
     let d = look_at - position;
     let size = |p: Vec3| p.abs().max_element();
     if !d.is_finite() {
-        let (span, field) = if size(position) > size(look_at) {
-            (raw.position.span(), "camera.position")
-        } else {
-            (raw.look_at.span(), "camera.look_at")
-        };
         let far = f64x3::sub(f64x3::from(look_at), f64x3::from(position)).map(f64::abs).into_iter().fold(0.0, f64::max);
-        let msg = format!(
+        let message = format!(
             "position and look_at are too far apart for f32: look_at - position has a component of {far:.1e}, over \
              f32's max {:.1e}",
             f32::MAX
         );
-        return Err(src.error(span, field, ErrorKind::Degenerate, msg));
+        return Err(PoseProblem::Apart { position: size(position) > size(look_at), message });
     }
     let distance = f64x3::length(f64x3::from(d));
     let resolution = 1e-6 * f64::from(size(position).max(1.0));
@@ -173,7 +198,7 @@ fn check_distance(src: Source<'_>, raw: &RawCamera, position: Vec3, look_at: Vec
                 size(position)
             )
         };
-        return Err(src.error(raw.look_at.span(), "camera.look_at", ErrorKind::Degenerate, msg));
+        return Err(PoseProblem::Coincide(msg));
     }
     Ok(())
 }

@@ -25,6 +25,10 @@ impl Interval {
     pub const fn open(lo: f32, hi: f32) -> Self {
         Self { lo, lo_open: true, hi, hi_open: true }
     }
+    /// `(lo, hi]`.
+    pub const fn open_closed(lo: f32, hi: f32) -> Self {
+        Self { lo, lo_open: true, hi, hi_open: false }
+    }
     /// `[lo, inf)`.
     pub const fn at_least(lo: f32) -> Self {
         Self { lo, lo_open: false, hi: f32::INFINITY, hi_open: true }

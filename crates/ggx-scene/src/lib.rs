@@ -1,7 +1,7 @@
 //! Scene files for the ggx path tracers.
 //!
 //! A scene is a TOML file (format: the crate README) that [`load_scene`] turns into a
-//! validated [`Scene`]: a camera, integrator settings, materials, every shape tessellated
+//! validated [`Scene`]: a camera (animated by an optional [`CameraPath`]), integrator settings, materials, every shape tessellated
 //! into world-space triangles ([`TriangleMesh`]), area lights with a power distribution for
 //! next-event estimation ([`AreaLights`]) and an optional importance-sampled
 //! [`Environment`]. Flat tables ([`Triangle`], [`ShadingNormals`], [`Emitter`],
@@ -14,6 +14,8 @@
 #![deny(missing_docs)]
 
 mod camera;
+mod camera_build;
+mod camera_path;
 mod check;
 mod distribution;
 mod environment;
@@ -38,7 +40,8 @@ mod toml_error;
 
 use std::path::Path;
 
-pub use camera::{Camera, MAX_RESOLUTION};
+pub use camera::{Camera, CameraPose, MAX_RESOLUTION};
+pub use camera_path::{CameraKey, CameraPath, DEFAULT_FPS, FrameError, Interpolation, MAX_FPS, MAX_FRAMES};
 pub use distribution::{Distribution1D, Distribution2D};
 pub use environment::{
     EnvMap, Environment, MAX_MAP_SIZE, MAX_PROCEDURAL_WIDTH, direction_to_uv, load_image, sky, studio, uniform_sphere,

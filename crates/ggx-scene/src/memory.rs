@@ -23,9 +23,10 @@ pub const BYTES_PER_TRIANGLE: u64 = 400;
 /// weight and the 8 bytes of the distribution's cell weight and conditional CDF entry.
 pub const BYTES_PER_TEXEL: u64 = 28;
 
-/// Bytes per film pixel: the 24-byte `f64` RGB sum, the 12-byte mean and the 12-byte image
-/// written out, and 16 bytes for a backend's read-back and tile buffers.
-pub const FILM_BYTES_PER_PIXEL: u64 = 64;
+/// Bytes per film pixel: the 64-byte exact sum (three 128-bit sums and two counts), as much
+/// again for the tiles of a pass in flight (or a backend's read-back), the 12-byte mean and
+/// the 68 bytes of the film file's channels when it is written.
+pub const FILM_BYTES_PER_PIXEL: u64 = 208;
 
 /// Memory of `triangles` triangles, [`BYTES_PER_TRIANGLE`] each.
 pub fn triangle_bytes(triangles: u64) -> u64 {
@@ -115,6 +116,6 @@ mod tests {
         assert_eq!((e.film_pixels, e.film_bytes), (8, 8 * FILM_BYTES_PER_PIXEL));
         assert_eq!(e.total(), e.triangle_bytes + 280 + e.film_bytes);
         assert!(MemoryEstimate::new(u64::MAX, u64::MAX, [u32::MAX; 2]).total() == u64::MAX);
-        assert_eq!(film_bytes(16384, 16384), 16 << 30);
+        assert_eq!(film_bytes(16384, 16384), 52 << 30);
     }
 }

@@ -12,6 +12,7 @@ use serde::Deserialize;
 use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use toml::Spanned;
 
+use crate::camera_path::Interpolation;
 use crate::integrator::{BsdfStrategy, LightStrategy, SamplerKind};
 use crate::material::MaterialPreset;
 
@@ -22,7 +23,8 @@ pub(crate) type Opt<T> = Option<Spanned<T>>;
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawScene {
-    pub camera: RawCamera,
+    /// Spanned so that a missing `position` can point at the `[camera]` header.
+    pub camera: Spanned<RawCamera>,
     pub integrator: Option<RawIntegrator>,
     #[serde(default)]
     pub materials: BTreeMap<String, RawMaterial>,
@@ -31,15 +33,30 @@ pub(crate) struct RawScene {
     pub environment: Option<RawEnvironment>,
 }
 
-/// `[camera]`.
+/// `[camera]`: `position` and `look_at` for a still camera, or `keys` for an animated one
+/// (whose `up` and `fov_y` are then the keys' defaults).
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawCamera {
+    pub position: Opt<[f64; 3]>,
+    pub look_at: Opt<[f64; 3]>,
+    pub up: Opt<[f64; 3]>,
+    pub fov_y: Opt<f64>,
+    pub resolution: Opt<[u32; 2]>,
+    pub fps: Opt<f64>,
+    pub interpolation: Opt<Interpolation>,
+    pub keys: Opt<Vec<Spanned<RawCameraKey>>>,
+}
+
+/// `[[camera.keys]]`: one key of an animated camera.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawCameraKey {
+    pub time: Spanned<f64>,
     pub position: Spanned<[f64; 3]>,
     pub look_at: Spanned<[f64; 3]>,
     pub up: Opt<[f64; 3]>,
     pub fov_y: Opt<f64>,
-    pub resolution: Opt<[u32; 2]>,
 }
 
 /// `[integrator]`.

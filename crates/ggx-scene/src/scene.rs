@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use crate::camera::Camera;
+use crate::camera_path::{CameraPath, FrameError};
 use crate::environment::Environment;
 use crate::features::SceneFeatures;
 use crate::integrator::IntegratorSettings;
@@ -14,8 +15,11 @@ use crate::stats::SceneStats;
 /// A loaded and validated scene.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scene {
-    /// The camera.
+    /// The camera: the still camera, or the current frame's ([`Scene::set_frame`]; frame 0
+    /// after loading) of an animated one.
     pub camera: Camera,
+    /// The animation of an animated camera (`[[camera.keys]]`), `None` for a still one.
+    pub camera_path: Option<CameraPath>,
     /// Sampling settings.
     pub integrator: IntegratorSettings,
     /// Materials, indexed by [`crate::Triangle::material`] (sorted by name).
@@ -80,6 +84,25 @@ impl Scene {
     pub fn set_energy_compensation(&mut self, on: bool) {
         self.integrator.energy_compensation = Some(on);
         self.materials.iter_mut().for_each(|m| *m = m.with_compensation(on));
+    }
+
+    /// Number of frames: [`CameraPath::frame_count`] (`floor(duration * fps) + 1`) for an
+    /// animated camera, 1 for a still one.
+    pub fn frame_count(&self) -> u32 {
+        self.camera_path.as_ref().map_or(1, CameraPath::frame_count)
+    }
+
+    /// Sets [`Self::camera`] to the camera at `frame` (time `frame / fps`), keeping its
+    /// resolution (which the caller may have overridden); a still camera has only frame 0.
+    pub fn set_frame(&mut self, frame: u32) -> Result<(), FrameError> {
+        match &self.camera_path {
+            None if frame == 0 => Ok(()),
+            None => Err(FrameError::NotAnimated { frame }),
+            Some(path) => {
+                self.camera = path.camera_at_frame(frame, self.camera.resolution)?;
+                Ok(())
+            }
+        }
     }
 
     /// Index of the material called `name`.

@@ -4,7 +4,7 @@
 use std::f32::consts::PI;
 use std::path::{Path, PathBuf};
 
-use crate::camera::Camera;
+use crate::camera_build;
 use crate::environment::{self, Environment};
 use crate::error::{ErrorKind, SceneError, Source};
 use crate::features::SceneFeatures;
@@ -28,7 +28,7 @@ use crate::shorten::{short, short_list};
 /// the shapes before it leave of the limits, and its arrays count against `max_memory`; the
 /// environment map is loaded within what the triangles leave of `max_memory`.
 pub(crate) fn build(src: Source<'_>, raw: &RawScene, base_dir: &Path, limits: &Limits) -> Result<Scene, SceneError> {
-    let camera = Camera::from_raw(src, &raw.camera)?;
+    let (camera, camera_path) = camera_build::build(src, &raw.camera)?;
     let integrator = IntegratorSettings::from_raw(src, raw.integrator.as_ref())?;
     let material_names: Vec<String> = raw.materials.keys().cloned().collect();
     let mut materials =
@@ -105,6 +105,7 @@ pub(crate) fn build(src: Source<'_>, raw: &RawScene, base_dir: &Path, limits: &L
     let features = features(&materials, &used, &mesh, &lights, environment.as_ref(), raw.shapes.len());
     Ok(Scene {
         camera,
+        camera_path,
         integrator,
         materials,
         material_names,

@@ -127,6 +127,8 @@ const TOKENS: &[&str] = &[
     ".",
     "#",
     "[[shapes]]",
+    "[[camera.keys]]",
+    "time = 0.5",
     "[materials.x]",
     "type = \"mesh\"",
     "file = \"nope.obj\"",
@@ -299,10 +301,11 @@ proptest! {
     }
 
     #[test]
-    fn mutated_scenes_never_panic(base in 0usize..3, edits in prop::collection::vec(edit(), 1..6)) {
+    fn mutated_scenes_never_panic(base in 0usize..4, edits in prop::collection::vec(edit(), 1..6)) {
         let text = match base {
             0 => EVERYTHING.to_owned(),
             1 => std::fs::read_to_string(scenes_dir().join("cornell.toml")).unwrap(),
+            2 => std::fs::read_to_string(scenes_dir().join("turntable.toml")).unwrap(),
             _ => std::fs::read_to_string(scenes_dir().join("furnace.toml")).unwrap(),
         };
         parse_ok_or_located(&mutate(&text, &edits))?;
