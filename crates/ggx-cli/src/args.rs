@@ -14,6 +14,9 @@ Examples:
   ggx render scenes/cornell.toml -o cornell.exr --spp 4096 --time 60
   ggx render scenes/furnace.toml -o furnace.png --width 512 --tonemap clamp
   ggx info scenes/bunny.toml
+  ggx render scenes/cornell.toml --samples 0..512 -o part-0.exr
+  ggx render scenes/cornell.toml --samples 512..1024 -o part-1.exr
+  ggx merge part-0.exr part-1.exr -o cornell.exr
 
 Exit codes: 0 success, 1 error, 2 usage error, 130 interrupted (the partial image is written).";
 
@@ -23,9 +26,23 @@ Examples:
   ggx render scenes/cornell.toml -o cornell.exr --spp 100000 --time 30
   ggx render scenes/bunny.toml -o bunny.png --width 1280 --exposure 0.5 --threads 8
   ggx render scenes/cornell.toml -o bench.exr --accel bvh2 --generic
+  ggx render scenes/cornell.toml -o part.exr --samples 256..512 --crop 0,0,128,128
+  ggx render scenes/cornell.toml -o cornell.exr --checkpoint cornell.ckpt.exr --checkpoint-every 30
+  ggx render scenes/cornell.toml -o cornell.exr --resume cornell.ckpt.exr
+  ggx render scenes/turntable.toml -o 'frames/turntable-####.png' --frames 0..49
 
-Ctrl-C (or SIGTERM) stops the render and still writes the image of the completed passes;
-press it again to quit at once. The exit code is then 130.";
+Ctrl-C (or SIGTERM) stops the render and still writes the image of what was rendered (the
+finished tiles of the pass in flight included; an EXR then records each pixel's sample
+count); press it again to quit at once. The exit code is then 130.";
+
+const MERGE_EXAMPLES: &str = "\
+Examples:
+  ggx merge parts/part-*.exr -o final.exr
+  ggx merge parts/part-*.exr -o final.png --exposure 1
+  ggx merge parts/part-*.exr -o preview.exr --allow-missing
+
+The parts must come from the same scene, settings, seed, frame, backend and ggx version and
+hold disjoint samples; the merged image is the same, bit for bit, as one render of them all.";
 
 /// Renders GGX microfacet scenes with a CPU path tracer.
 #[derive(Debug, Parser)]
@@ -44,6 +61,9 @@ pub enum Command {
     Render(RenderArgs),
     /// Print what a scene contains, its settings and BVH build times.
     Info(InfoArgs),
+    /// Add film files rendered with --samples, --crop or --checkpoint into one image.
+    #[command(after_help = MERGE_EXAMPLES)]
+    Merge(MergeArgs),
 }
 
 /// `ggx render`.
@@ -53,8 +73,41 @@ pub struct RenderArgs {
     pub scene: PathBuf,
 
     /// Output image: .exr (linear HDR) or .png (tone-mapped sRGB), chosen by the extension.
+    /// With --frames, runs of `#` in the name are the zero-padded frame number.
     #[arg(short, long, value_name = "OUT")]
     pub output: PathBuf,
+
+    /// Render only samples [A, B) of every pixel; the output (.exr) is then an exact film
+    /// that `ggx merge` adds to the other parts.
+    #[arg(long, value_name = "A..B", value_parser = parse_range)]
+    pub samples: Option<[u32; 2]>,
+
+    /// Render only the pixels [X0, X1) x [Y0, Y1); the output (.exr) is an exact film.
+    #[arg(long, value_name = "X0,Y0,X1,Y1", value_parser = parse_window)]
+    pub crop: Option<[u32; 4]>,
+
+    /// Write the exact film to this .exr file every --checkpoint-every seconds (atomically)
+    /// and when the render ends; `--resume FILE` continues it.
+    #[arg(long, value_name = "FILE.exr")]
+    pub checkpoint: Option<PathBuf>,
+
+    /// Seconds between checkpoints (written at the end of a pass).
+    #[arg(long, value_name = "SECONDS", default_value_t = 60.0, value_parser = parse_interval)]
+    pub checkpoint_every: f32,
+
+    /// Continue the render saved in this film file (a checkpoint, or an interrupted part):
+    /// the final image is the same, bit for bit, as one never interrupted. Give --samples to
+    /// extend its range (same start, a later end).
+    #[arg(long, value_name = "FILE.exr")]
+    pub resume: Option<PathBuf>,
+
+    /// The frame of an animated camera ([[camera.keys]]) to render [default: 0].
+    #[arg(long, value_name = "N", conflicts_with = "frames")]
+    pub frame: Option<u32>,
+
+    /// Render frames [A, B) of an animated camera, one image each (`#` in the output name).
+    #[arg(long, value_name = "A..B", value_parser = parse_range, conflicts_with_all = ["resume", "checkpoint"])]
+    pub frames: Option<[u32; 2]>,
 
     /// Samples per pixel [default: the scene's integrator.spp].
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SPP)))]
@@ -131,6 +184,35 @@ pub struct InfoArgs {
     pub limits: LimitArgs,
 }
 
+/// `ggx merge`.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// Film files (.exr written with --samples, --crop or --checkpoint, or by ggx merge).
+    #[arg(required = true, value_name = "PART")]
+    pub parts: Vec<PathBuf>,
+
+    /// Output: .exr (an exact film: it can be merged again or resumed) or .png.
+    #[arg(short, long, value_name = "OUT")]
+    pub output: PathBuf,
+
+    /// Write the image even when samples or pixels are missing (each pixel then averages
+    /// the samples it has; the film records the counts).
+    #[arg(long)]
+    pub allow_missing: bool,
+
+    /// Exposure in stops: the image is scaled by 2^STOPS before it is written.
+    #[arg(long, value_name = "STOPS", default_value_t = 0.0, allow_negative_numbers = true, value_parser = parse_exposure)]
+    pub exposure: f32,
+
+    /// Tone curve of PNG output (EXR output stays linear).
+    #[arg(long, value_enum, default_value_t = ToneMapArg::Aces)]
+    pub tonemap: ToneMapArg,
+
+    /// Limits on what is read and allocated.
+    #[command(flatten, next_help_heading = "Limits")]
+    pub limits: LimitArgs,
+}
+
 /// Largest accepted `--threads`.
 const MAX_THREADS: i64 = 4096;
 
@@ -184,6 +266,35 @@ fn parse_seconds(s: &str) -> Result<f32, String> {
     }
 }
 
+/// `A..B` with `A < B`: a half-open range of samples or frames.
+fn parse_range(s: &str) -> Result<[u32; 2], String> {
+    let bad = || format!("expected A..B with whole numbers A < B (samples or frames [A, B)), got `{s}`");
+    let (a, b) = s.trim().split_once("..").ok_or_else(bad)?;
+    let (a, b): (u32, u32) = (a.trim().parse().map_err(|_| bad())?, b.trim().parse().map_err(|_| bad())?);
+    if a >= b {
+        return Err(bad());
+    }
+    Ok([a, b])
+}
+
+/// `X0,Y0,X1,Y1` with `X0 < X1`, `Y0 < Y1` (checked against the image size later).
+fn parse_window(s: &str) -> Result<[u32; 4], String> {
+    let bad = || format!("expected X0,Y0,X1,Y1 with X0 < X1 and Y0 < Y1 (pixels), got `{s}`");
+    let values: Vec<u32> = s.split(',').map(|v| v.trim().parse().map_err(|_| bad())).collect::<Result<_, _>>()?;
+    match <[u32; 4]>::try_from(values) {
+        Ok([x0, y0, x1, y1]) if x0 < x1 && y0 < y1 => Ok([x0, y0, x1, y1]),
+        _ => Err(bad()),
+    }
+}
+
+/// `--checkpoint-every`: a finite number of seconds > 0.
+fn parse_interval(s: &str) -> Result<f32, String> {
+    match s.trim().parse::<f32>() {
+        Ok(t) if t > 0.0 && t.is_finite() => Ok(t),
+        _ => Err(format!("must be a number of seconds > 0, got {s}")),
+    }
+}
+
 /// `--exposure`: a finite number of stops small enough that 2^stops stays finite.
 fn parse_exposure(s: &str) -> Result<f32, String> {
     match s.trim().parse::<f32>() {
@@ -203,7 +314,7 @@ mod tests {
         let cli = Cli::try_parse_from(["ggx", "render", "s.toml", "-o", "x.png"].iter().chain(args))?;
         match cli.command {
             Command::Render(r) => Ok(r),
-            Command::Info(_) => unreachable!("parsed a render command"),
+            _ => unreachable!("parsed a render command"),
         }
     }
 
@@ -227,6 +338,24 @@ mod tests {
         assert_eq!(parse(&["--time", "0"]).unwrap().time, Some(0.0));
         assert_eq!(parse(&["--time", "2e19"]).unwrap().time, Some(2e19));
         assert_eq!(parse(&["--seed", "4294967295"]).unwrap().seed, Some(4_294_967_295));
+    }
+
+    #[test]
+    fn ranges_windows_and_frames() {
+        let r = parse(&["--samples", "16..48", "--crop", "0,8,32,40", "--frame", "3"]).unwrap();
+        assert_eq!((r.samples, r.crop, r.frame), (Some([16, 48]), Some([0, 8, 32, 40]), Some(3)));
+        assert_eq!(parse(&["--frames", "0..49"]).unwrap().frames, Some([0, 49]));
+        for bad in [&["--samples", "8..8"][..], &["--samples", "9..3"], &["--samples", "3"], &["--crop", "1,1,1,2"]] {
+            let err = parse(bad).unwrap_err();
+            assert_eq!(err.exit_code(), 2, "{bad:?}");
+        }
+        assert!(parse(&["--frame", "1", "--frames", "0..2"]).is_err());
+        assert!(parse(&["--frames", "0..2", "--resume", "x.exr"]).is_err());
+        assert!(parse(&["--checkpoint-every", "0"]).is_err());
+        let cli = Cli::try_parse_from(["ggx", "merge", "a.exr", "b.exr", "-o", "m.png", "--allow-missing"]).unwrap();
+        let Command::Merge(m) = cli.command else { unreachable!("parsed a merge command") };
+        assert_eq!((m.parts.len(), m.allow_missing), (2, true));
+        assert!(Cli::try_parse_from(["ggx", "merge", "-o", "m.png"]).is_err());
     }
 
     #[test]

@@ -6,7 +6,9 @@ use std::io::Write as _;
 use anyhow::{Context, Result};
 use clap::ValueEnum;
 use ggx_cpu::Renderer;
-use ggx_scene::{BsdfStrategy, Environment, LightStrategy, Limit, Limits, Material, SamplerKind, Scene};
+use ggx_scene::{
+    BsdfStrategy, CameraPath, Environment, Interpolation, LightStrategy, Limit, Limits, Material, SamplerKind, Scene,
+};
 
 use crate::args::{AccelArg, InfoArgs};
 use crate::{accel, memory};
@@ -106,7 +108,23 @@ fn describe(scene: &Scene) -> String {
             vec3(c.forward.to_array())
         ),
     );
+    line("animation", animation(scene.camera_path.as_ref()));
     s
+}
+
+/// `none (still camera)`, or the keys, fps, frames, duration and interpolation of the path,
+/// e.g. `17 keys, 24 fps, 49 frames (0..=48), 2 s, smooth`.
+fn animation(path: Option<&CameraPath>) -> String {
+    let Some(p) = path else { return "none (still camera)".to_owned() };
+    let frames = p.frame_count();
+    let keys = if p.keys().len() == 1 { "1 key".to_owned() } else { format!("{} keys", p.keys().len()) };
+    format!(
+        "{keys}, {} fps, {frames} frames (0..={}), {} s, {}",
+        p.fps(),
+        frames.saturating_sub(1),
+        p.duration(),
+        interpolation_name(p.interpolation())
+    )
 }
 
 fn vec3([x, y, z]: [f32; 3]) -> String {
@@ -161,6 +179,13 @@ fn bsdf_name(b: BsdfStrategy) -> &'static str {
     }
 }
 
+fn interpolation_name(i: Interpolation) -> &'static str {
+    match i {
+        Interpolation::Linear => "linear",
+        Interpolation::Smooth => "smooth",
+    }
+}
+
 fn light_name(l: LightStrategy) -> &'static str {
     match l {
         LightStrategy::Bsdf => "bsdf",
@@ -188,6 +213,18 @@ mod tests {
         // The camera looks down -z from +z: forward is (0, 0, -1), printed without -0.000.
         assert!(d.contains("forward [0.000, 0.000, -1.000]"), "{d}");
         assert!(!d.contains("-0.0"), "{d}");
+        assert!(d.contains("animation:   none (still camera)"), "{d}");
+    }
+
+    #[test]
+    fn describes_an_animation() {
+        let text = "[camera]\nfps = 12\ninterpolation = \"smooth\"\n\
+                    [[camera.keys]]\ntime = 0\nposition = [0, 0, 5]\nlook_at = [0, 0, 0]\n\
+                    [[camera.keys]]\ntime = 2.5\nposition = [5, 0, 0]\nlook_at = [0, 0, 0]\n";
+        let scene = ggx_scene::parse_scene(text, "t.toml", std::path::Path::new(".")).unwrap();
+        let d = describe(&scene);
+        assert!(d.contains("animation:   2 keys, 12 fps, 31 frames (0..=30), 2.5 s, smooth"), "{d}");
+        assert!(d.contains("position [0.000, 0.000, 5.000]"), "frame 0 is described: {d}");
     }
 
     #[test]

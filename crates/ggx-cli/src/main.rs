@@ -1,4 +1,5 @@
-//! `ggx`: renders ggx scenes on the CPU and describes them. `ggx --help` for usage.
+//! `ggx`: renders ggx scenes on the CPU or a GPU, merges renders split across machines and
+//! describes scenes. `ggx --help` for usage.
 //!
 //! Exit codes: 0 success, 1 error, 2 usage error, 130 interrupted by Ctrl-C or SIGTERM
 //! (after writing the image rendered so far).
@@ -7,15 +8,19 @@ mod accel;
 mod args;
 mod backend;
 mod exit;
+mod film_out;
+mod frames;
 mod info_cmd;
 mod interrupt;
 mod limits_args;
 mod memory;
+mod merge_cmd;
 mod output;
 mod overrides;
 mod progress;
 mod render_cmd;
 mod runtime_dir;
+mod scene_hash;
 mod stats;
 
 use std::process::ExitCode;
@@ -36,6 +41,7 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         Command::Render(args) => render_cmd::run(args),
         Command::Info(args) => info_cmd::run(args).map(|()| Outcome::Done),
+        Command::Merge(args) => merge_cmd::run(args),
     };
     match result {
         Ok(outcome) => outcome.exit_code(),

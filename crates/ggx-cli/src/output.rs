@@ -25,9 +25,15 @@ pub fn check(path: &Path, inputs: &[&Path]) -> Result<()> {
 /// Fails unless the statistics file `path` can be written (see `ggx_film::check_file`): it
 /// must end in `.json`, differ from the image `output` and be none of `inputs`.
 pub fn check_stats(path: &Path, output: &Path, inputs: &[&Path]) -> Result<()> {
+    check_side_file(path, "json", "statistics", output, inputs)
+}
+
+/// Fails unless the file `path` written beside the image (the `what` file) can be written: it
+/// must end in `.ext`, differ from the image `output` and be none of `inputs`.
+pub fn check_side_file(path: &Path, ext: &str, what: &str, output: &Path, inputs: &[&Path]) -> Result<()> {
     let shown = path.display();
-    if !path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json")) {
-        bail!("{shown}: the statistics file must end in .json");
+    if !path.extension().is_some_and(|e| e.eq_ignore_ascii_case(ext)) {
+        bail!("{shown}: the {what} file must end in .{ext}");
     }
     if path == output || same_file(path, output) {
         bail!("{shown}: is also the image output");

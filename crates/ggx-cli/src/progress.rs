@@ -33,6 +33,7 @@ const LINE_INTERVAL: f64 = 1.0;
 pub struct RenderProgress {
     bar: ProgressBar,
     pixels: u64,
+    held: u64,
     budget: Option<Duration>,
     /// Print `progress:` lines (stderr is not a terminal).
     lines: bool,
@@ -41,20 +42,27 @@ pub struct RenderProgress {
 }
 
 impl RenderProgress {
-    /// Starts showing `bar` for a render of `pixels` pixels with an optional time budget in
-    /// seconds.
-    pub fn start(bar: ProgressBar, spp_target: u32, pixels: u64, budget: Option<f32>) -> Self {
+    /// Starts showing `bar` for a render of `pixels` pixels that holds `held` camera samples
+    /// already (a resumed render), with an optional time budget in seconds.
+    pub fn start(bar: ProgressBar, spp_target: u32, pixels: u64, held: u64, budget: Option<f32>) -> Self {
         let budget = budget.and_then(|b| Duration::try_from_secs_f32(b).ok());
         let lines = !std::io::stderr().is_terminal();
-        let this = Self { bar, pixels, budget, lines, last_line: AtomicU64::new(f64::NEG_INFINITY.to_bits()) };
-        this.update(&Progress { spp_done: 0, spp_target, elapsed: Duration::ZERO });
+        let last_line = AtomicU64::new(f64::NEG_INFINITY.to_bits());
+        let this = Self { bar, pixels, held, budget, lines, last_line };
+        this.update(&Progress {
+            spp_done: u32::try_from(held / pixels.max(1)).unwrap_or(u32::MAX),
+            spp_target,
+            samples_done: held,
+            samples_target: u64::from(spp_target) * pixels,
+            pass_end: false,
+            elapsed: Duration::ZERO,
+        });
         this.bar.enable_steady_tick(Duration::from_millis(120));
         this
     }
 
-    /// Shows the state after a pass.
     pub fn update(&self, p: &Progress) {
-        let spp_fraction = if p.spp_target == 0 { 1.0 } else { f64::from(p.spp_done) / f64::from(p.spp_target) };
+        let spp_fraction = if p.samples_target == 0 { 1.0 } else { p.samples_done as f64 / p.samples_target as f64 };
         let time_fraction = self.budget.map_or(0.0, |b| p.elapsed.as_secs_f64() / b.as_secs_f64().max(1e-9));
         let fraction = spp_fraction.max(time_fraction).min(1.0);
         self.bar.set_position((fraction * STEPS as f64) as u64);
@@ -69,7 +77,8 @@ impl RenderProgress {
     fn line_due(&self, p: &Progress) -> bool {
         let now = p.elapsed.as_secs_f64();
         let last = f64::from_bits(self.last_line.load(Ordering::Relaxed));
-        let due = p.spp_done > 0 && (now - last >= LINE_INTERVAL || p.spp_done >= p.spp_target);
+        let finished = p.samples_done >= p.samples_target && p.pass_end;
+        let due = p.samples_done > self.held && (now - last >= LINE_INTERVAL || finished);
         if due {
             self.last_line.store(now.to_bits(), Ordering::Relaxed);
         }
@@ -78,10 +87,15 @@ impl RenderProgress {
 
     fn message(&self, p: &Progress) -> String {
         let secs = p.elapsed.as_secs_f64();
-        let mut msg = format!("{}/{} spp", p.spp_done, p.spp_target);
-        if p.spp_done > 0 && secs > 0.0 {
-            let rate = f64::from(p.spp_done) * self.pixels as f64 / secs;
-            msg += &format!("  {}", per_second(rate, "samples"));
+        let spp = p.samples_done as f64 / self.pixels.max(1) as f64;
+        let mut msg = if spp.fract() == 0.0 {
+            format!("{spp}/{} spp", p.spp_target)
+        } else {
+            format!("{spp:.1}/{} spp", p.spp_target)
+        };
+        let traced = p.samples_done.saturating_sub(self.held);
+        if traced > 0 && secs > 0.0 {
+            msg += &format!("  {}", per_second(traced as f64 / secs, "samples"));
         }
         if let Some(budget) = self.budget {
             msg += &format!("  {secs:.1}/{:.1} s", budget.as_secs_f64());
@@ -95,8 +109,9 @@ impl RenderProgress {
     /// Time left: by the spp rate so far, capped by the budget.
     fn eta(&self, p: &Progress) -> Option<f64> {
         let secs = p.elapsed.as_secs_f64();
-        let by_spp =
-            (p.spp_done > 0).then(|| secs * f64::from(p.spp_target.saturating_sub(p.spp_done)) / f64::from(p.spp_done));
+        let traced = p.samples_done.saturating_sub(self.held);
+        let left = p.samples_target.saturating_sub(p.samples_done);
+        let by_spp = (traced > 0).then(|| secs * left as f64 / traced as f64);
         let by_budget = self.budget.map(|b| (b.as_secs_f64() - secs).max(0.0));
         match (by_spp, by_budget) {
             (Some(a), Some(b)) => Some(a.min(b)),
@@ -130,12 +145,19 @@ mod tests {
     use super::*;
 
     fn progress(spp_done: u32, spp_target: u32, secs: f32) -> Progress {
-        Progress { spp_done, spp_target, elapsed: Duration::from_secs_f32(secs) }
+        Progress {
+            spp_done,
+            spp_target,
+            samples_done: u64::from(spp_done) * 1_000_000,
+            samples_target: u64::from(spp_target) * 1_000_000,
+            pass_end: true,
+            elapsed: Duration::from_secs_f32(secs),
+        }
     }
 
     fn hidden(budget: Option<Duration>) -> RenderProgress {
         let last_line = AtomicU64::new(f64::NEG_INFINITY.to_bits());
-        RenderProgress { bar: ProgressBar::hidden(), pixels: 1_000_000, budget, lines: true, last_line }
+        RenderProgress { bar: ProgressBar::hidden(), pixels: 1_000_000, held: 0, budget, lines: true, last_line }
     }
 
     #[test]
@@ -156,6 +178,18 @@ mod tests {
         let p = hidden(Some(Duration::from_secs(10)));
         assert_eq!(p.message(&progress(0, 1000, 0.0)), "0/1000 spp  0.0/10.0 s  ETA 10s");
         assert_eq!(p.message(&progress(4, 1000, 2.0)), "4/1000 spp  2.00 M samples/s  2.0/10.0 s  ETA 8s");
+    }
+
+    #[test]
+    fn tiles_move_the_message_and_resumed_samples_are_not_a_rate() {
+        let mut p = hidden(None);
+        let mut mid = progress(16, 64, 2.0);
+        mid.samples_done += 500_000;
+        assert_eq!(p.message(&mid), "16.5/64 spp  8.25 M samples/s  ETA 6s");
+        p.held = 16_000_000;
+        assert_eq!(p.message(&progress(16, 64, 0.0)), "16/64 spp");
+        assert!(!p.line_due(&progress(16, 64, 0.0)), "nothing traced yet");
+        assert_eq!(p.message(&progress(32, 64, 2.0)), "32/64 spp  8.00 M samples/s  ETA 4s");
     }
 
     #[test]

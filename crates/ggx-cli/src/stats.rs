@@ -115,6 +115,25 @@ impl Stats {
         }
     }
 
+    /// The figures for an EXR header (`ggx.stats.<name>`): adapter, kernel, spp, time and rates.
+    pub fn header_pairs(&self) -> Vec<(String, String)> {
+        [
+            ("adapter", self.adapter.clone()),
+            ("kernel", self.kernel.to_owned()),
+            ("spp", self.spp.to_string()),
+            ("interrupted", self.interrupted.to_string()),
+            ("seconds", format!("{:.6}", self.seconds)),
+            ("cameraSamples", self.camera_samples.to_string()),
+            ("cameraSamplesPerSecond", format!("{:.0}", self.camera_samples_per_second)),
+            ("rays", self.rays.to_string()),
+            ("raysPerSecond", format!("{:.0}", self.rays_per_second)),
+            ("passes", self.passes.len().to_string()),
+        ]
+        .into_iter()
+        .map(|(k, v)| (k.to_owned(), v))
+        .collect()
+    }
+
     /// Writes the statistics as pretty-printed JSON to `path`, atomically.
     pub fn write(&self, path: &Path) -> Result<()> {
         let mut json = serde_json::to_string_pretty(self).context("cannot serialize the statistics")?;
@@ -150,7 +169,16 @@ mod tests {
     fn passes_are_recorded_in_order() {
         let log = PassLog::default();
         for (spp, ms) in [(1, 10), (2, 25), (4, 60)] {
-            log.record(&Progress { spp_done: spp, spp_target: 4, elapsed: Duration::from_millis(ms) });
+            let samples_done = u64::from(spp) * 16;
+            let elapsed = Duration::from_millis(ms);
+            log.record(&Progress {
+                spp_done: spp,
+                spp_target: 4,
+                samples_done,
+                samples_target: 64,
+                pass_end: true,
+                elapsed,
+            });
         }
         let passes = log.passes();
         assert_eq!(passes.iter().map(|p| p.spp).collect::<Vec<_>>(), [1, 2, 4]);

@@ -88,7 +88,7 @@ fn sigint_writes_the_partial_image_and_exits_130() {
     let (code, stdout, log) = ggx.finish();
 
     assert_eq!(code, Some(130), "stdout: {stdout}\nstderr: {log}");
-    assert!(log.contains("interrupted after "), "{log}");
+    assert!(log.contains("interrupted with "), "{log}");
     assert!(stdout.starts_with("interrupted: "), "{stdout}");
     let png = image::open(&path).unwrap_or_else(|e| panic!("{}: {e}\n{log}", path.display()));
     assert_eq!((png.width(), png.height()), (64, 48));
@@ -122,4 +122,38 @@ fn sigterm_while_loading_exits_at_once() {
     // the render was announced first.
     assert!(!log.lines().any(|l| l.starts_with("rendering ")), "{log}");
     assert!(!out.exists());
+}
+
+/// Ctrl-C in the middle of a pass keeps the finished tiles: the film records each pixel's
+/// count, and `--resume` completes it into the image of an uninterrupted render, bit for bit.
+#[test]
+fn an_interrupted_film_resumes_to_the_same_bits() {
+    let dir = TempDir::new("interrupt-resume");
+    let file = |name: &str| dir.path().join(name).to_str().unwrap().to_owned();
+    let scene = scene("cornell.toml");
+    let common = ["--width", "48", "--height", "32", "--threads", "1"];
+    let mut ggx =
+        Running::start(&[&["render", &scene, "-o", &file("cut.exr"), "--samples", "0..400000"][..], &common].concat());
+    ggx.signal_after("rendering ", Duration::from_millis(1500), "-INT");
+    let (code, _, log) = ggx.finish();
+    assert_eq!(code, Some(130), "{log}");
+    let (info, cut) = ggx_film::read_film(std::path::Path::new(&file("cut.exr")), 1 << 20).unwrap();
+    assert_eq!(info.samples, [0, 400000]);
+    let held = cut.pixels().iter().map(|p| p.samples).max().unwrap();
+    assert!(held > 0, "{log}");
+    // Continue it to a range both can finish quickly: the resume extends or cuts nothing it holds.
+    let end = (held + 3).to_string();
+    let range = format!("0..{end}");
+    let out = support::ggx(
+        &[
+            &["render", &scene, "-o", &file("resumed.exr"), "--resume", &file("cut.exr"), "--samples", &range][..],
+            &common,
+        ]
+        .concat(),
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = support::ggx(&[&["render", &scene, "-o", &file("whole.exr"), "--samples", &range][..], &common].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let read = |name: &str| ggx_film::read_film(std::path::Path::new(&file(name)), 1 << 20).unwrap().1;
+    assert_eq!(read("resumed.exr"), read("whole.exr"));
 }
