@@ -70,12 +70,18 @@ impl SampleSum {
     }
 }
 
-/// `round(clamp(v, ±n MAX_SAMPLE) * 2^56)` for a finite `v`: exact in `f64` (a 24-bit
-/// mantissa scaled by a power of two) and at most `2^127 / 2^32 * n` in magnitude.
+/// `trunc(clamp(v, ±n MAX_SAMPLE) * 2^56)` for a finite `v`: the product is exact in `f64` (a
+/// 24-bit mantissa scaled by a power of two) and at most `2^127 / 2^32 * n` in magnitude.
+/// Truncation, not rounding: `round` is a library call without SSE4.1, and either is exact
+/// to 2^-56. Magnitudes below 2^63 (radiance below 128) convert through one `i64`
+/// instruction; the `i128` conversion gives the same value for them.
+#[inline]
 fn to_fixed(v: f32, n: u32) -> i128 {
+    const SCALE: f64 = (1u64 << FRACTION_BITS) as f64;
+    const I64_RANGE: f64 = 9_223_372_036_854_775_808.0;
     let limit = f64::from(MAX_SAMPLE) * f64::from(n);
-    let scaled = f64::from(v).clamp(-limit, limit) * f64::from(FRACTION_BITS).exp2();
-    scaled.round() as i128
+    let scaled = f64::from(v).clamp(-limit, limit) * SCALE;
+    if scaled.abs() < I64_RANGE { i128::from(scaled as i64) } else { scaled as i128 }
 }
 
 #[cfg(test)]
@@ -96,6 +102,14 @@ mod tests {
             assert_eq!(b, whole, "split at {split}");
         }
         assert_eq!(whole.samples, 200);
+    }
+
+    #[test]
+    fn the_fast_conversion_is_the_wide_one() {
+        for v in [0.0f32, 1e-30, -1e-17, 0.1, 1.0, 127.99, -128.0, 128.0, 4096.5, -3e9, 5.4e11, f32::MAX] {
+            let scaled = f64::from(v).clamp(-f64::from(MAX_SAMPLE), f64::from(MAX_SAMPLE)) * 2f64.powi(56);
+            assert_eq!(to_fixed(v, 1), scaled as i128, "{v}");
+        }
     }
 
     #[test]
