@@ -4,7 +4,9 @@
 //! * `ci`: everything CI checks, in order, stopping at the first failure: a Vulkan driver
 //!   (lavapipe is installed with apt-get where none is, see [`system`]), rustfmt, clippy with
 //!   `-D warnings`, the `no_std` build proof, the whole test suite under `CI=true` (GPU tests
-//!   fail without an adapter), then `stress --quick`, `diff --quick` and `bench --quick`.
+//!   fail without an adapter), then `stress --quick`, `diff --quick`, `bench --quick`, the
+//!   Slurm scenario of `farm --scenario` (with the debug ggx of the test step) and
+//!   `farm --manifests`.
 //! * `diff [SCENES...]`: every scene rendered on the CPU and wgpu backends with the same seed,
 //!   compared against per-scene tolerances (see [`diff`]).
 //! * `bench`: run time against error, the convergence study (see [`bench`]).
@@ -12,11 +14,15 @@
 //!   (see [`stress`]).
 //! * `fuzz [--cases N]`: the mutation tests of every file reader and ggx-core's contract with
 //!   a long budget (see [`fuzz`]).
+//! * `farm --selftest | --manifests | --scenario`: distributed rendering on a one-node Slurm
+//!   cluster started (and stopped) by xtask, Slurm and munge installed with apt-get where
+//!   missing; the Kubernetes manifests checked against vendored schemas (see [`farm`]).
 //! * `tables [--check]`: regenerates ggx-core's energy-compensation tables (see [`tables`] and
 //!   [`tables_dielectric`]).
 
 mod bench;
 mod diff;
+mod farm;
 mod fuzz;
 mod render;
 mod stress;
@@ -31,7 +37,7 @@ use std::time::Instant;
 const USAGE: &str = "usage: cargo xtask <command>
 
   ci                             rustfmt check, clippy -D warnings, no_std build check, all tests,
-                                 stress --quick, diff --quick, bench --quick
+                                 stress --quick, diff --quick, bench --quick, farm --scenario, farm --manifests
   diff [--quick] [--width W] [--spp N] [SCENES...]
                                  render each scene (default: all) on the CPU and wgpu backends with the
                                  same seed; EXRs, false-colour difference PNGs and report.md under
@@ -43,6 +49,14 @@ const USAGE: &str = "usage: cargo xtask <command>
                                  (default 1e8; --quick: 1e6); fails on any NaN/inf or invalid accepted sample
   fuzz [--cases N]               mutation tests of the scene, OBJ, HDR and EXR readers and ggx-core's
                                  any-f32 contract with N cases each (default 20000; CI runs a short budget)
+  farm --selftest                install Slurm and munge where missing (apt-get), start a one-node cluster
+                                 bound to 127.0.0.1 under target/xtask/farm/, run a stand-in job array
+                                 (cancel a task mid-run, resubmit it) and the scripts/slurm scenario with a
+                                 ggx stub, stop the daemons
+  farm --scenario [--ggx PATH] [--scene PATH] [--spp N] [--tasks N] [--width W]
+                                 the same scenario with the real ggx: split a render across array tasks,
+                                 merge, cancel and resubmit a task, compare bit for bit with one render
+  farm --manifests               check scripts/k8s/*.yaml against the vendored Kubernetes JSON schemas
   tables [--check]               regenerate ggx-core's energy-compensation tables from ggx-core's own code in f64:
                                  the conductor's E(mu, alpha), E_avg(alpha) (crates/ggx-core/src/energy_tables.rs),
                                  the dielectric's E_T(mu, alpha, eta') and the plastic coat's E_R, E_R_avg
@@ -61,6 +75,7 @@ fn main() -> ExitCode {
         Some("diff") => diff::run(&args[1..]),
         Some("bench") => bench::run(&args[1..]),
         Some("fuzz") => fuzz::run(&args[1..]),
+        Some("farm") => farm::run(&args[1..]),
         Some("tables") => tables::run(&args[1..]),
         Some("stress") => match stress::Options::parse(&args[1..]) {
             Ok(options) => stress::run(&options),
@@ -114,6 +129,8 @@ fn ci() -> Result<(), String> {
     let start = Instant::now();
     // The GPU tests need a Vulkan adapter: install lavapipe where none is, before anything runs.
     system::ensure_vulkan()?;
+    // `xtask-flip` (a workspace member: clippy and the tests build it) is C++ underneath.
+    system::ensure_cxx()?;
     cargo(&["fmt", "--all", "--check"])?;
     cargo(&["clippy", "--workspace", "--all-targets", "--exclude", NOSTD_CHECK, "--", "-D", "warnings"])?;
     // no_std proofs: the core without default features, and a #![no_std] consumer that
@@ -129,6 +146,11 @@ fn ci() -> Result<(), String> {
     eprintln!("<== stress --quick: {:.1} s", stress_start.elapsed().as_secs_f64());
     in_process("diff --quick", || diff::run(&["--quick".into()]))?;
     in_process("bench --quick", || bench::run(&["--quick".into()]))?;
+    // Distributed rendering on a real one-node Slurm, with the ggx the test step just built.
+    let ggx = render::workspace_root().join("target").join("debug").join("ggx");
+    let args = ["--scenario".to_owned(), "--ggx".to_owned(), ggx.display().to_string()];
+    in_process("farm --scenario", || farm::run(&args))?;
+    in_process("farm --manifests", || farm::run(&["--manifests".to_owned()]))?;
     eprintln!("\nxtask ci: all checks passed in {:.0} s", start.elapsed().as_secs_f64());
     Ok(())
 }

@@ -1,7 +1,8 @@
 //! What `cargo xtask ci` needs from the system besides Rust: a Vulkan adapter for the GPU
-//! tests. Where none is installed, Mesa's software driver (lavapipe) is installed with
+//! tests and a C++ compiler for NVIDIA's FLIP ([`ensure_cxx`]). Where none is installed, Mesa's software driver (lavapipe) is installed with
 //! apt-get, as `.ci/run` does, so the README's test command works on a fresh Debian or
-//! Ubuntu machine by itself; the GPU tests are never skipped (`CI=true`).
+//! Ubuntu machine by itself; the GPU tests are never skipped (`CI=true`). `cargo xtask farm`
+//! installs Slurm the same way ([`apt_install_without_recommends`]).
 
 use std::path::Path;
 use std::process::Command;
@@ -53,12 +54,40 @@ pub fn ensure_vulkan() -> Result<(), String> {
         return Ok(());
     }
     let manual = format!("install a Vulkan driver, e.g. `apt-get install -y {}`", PACKAGES.join(" "));
+    eprintln!("\n==> no Vulkan driver found: installing {} (Mesa's lavapipe) for the GPU tests", PACKAGES.join(" "));
+    apt_install(&PACKAGES, &manual)
+}
+
+/// Installs `g++` where no C++ compiler (`c++`, `g++` or `clang++`, or `$CXX`) is on `PATH`:
+/// NVIDIA's FLIP, built by `xtask-flip` for `cargo xtask diff`, is C++.
+pub fn ensure_cxx() -> Result<(), String> {
+    let named = std::env::var("CXX").ok().filter(|c| !c.is_empty());
+    let candidates = named.iter().map(String::as_str).chain(["c++", "g++", "clang++"]);
+    if candidates.into_iter().any(|c| Command::new(c).arg("--version").output().is_ok_and(|o| o.status.success())) {
+        return Ok(());
+    }
+    eprintln!("\n==> no C++ compiler found: installing g++ for NVIDIA's FLIP (xtask-flip)");
+    apt_install(&["g++"], "install a C++ compiler, e.g. `apt-get install -y g++`")
+}
+
+/// Installs Debian packages with apt-get (through sudo when not root, without prompts); an
+/// error ends with `manual`, what to do by hand where that is impossible.
+pub fn apt_install(packages: &[&str], manual: &str) -> Result<(), String> {
+    apt(packages, manual, &[])
+}
+
+/// [`apt_install`] without the packages' recommendations (`--no-install-recommends`).
+pub fn apt_install_without_recommends(packages: &[&str], manual: &str) -> Result<(), String> {
+    apt(packages, manual, &["--no-install-recommends"])
+}
+
+/// `apt-get update`, then `apt-get install -y` with `flags` and `packages`.
+fn apt(packages: &[&str], manual: &str, flags: &[&str]) -> Result<(), String> {
     if Command::new("apt-get").arg("--version").output().is_err() {
-        return Err(format!("no Vulkan driver found and no apt-get to install one: {manual}"));
+        return Err(format!("no apt-get to install {}: {manual}", packages.join(" ")));
     }
     let root = Command::new("id").arg("-u").output().is_ok_and(|o| o.stdout.starts_with(b"0"));
     let prefix: Vec<&str> = if root { vec![] } else { vec!["sudo"] };
-    eprintln!("\n==> no Vulkan driver found: installing {} (Mesa's lavapipe) for the GPU tests", PACKAGES.join(" "));
     let run = |args: &[&str]| -> Result<(), String> {
         let all: Vec<&str> = prefix.iter().copied().chain(args.iter().copied()).collect();
         let status = Command::new(all[0])
@@ -70,7 +99,8 @@ pub fn ensure_vulkan() -> Result<(), String> {
     };
     run(&["apt-get", "update", "-qq"])?;
     let mut install = vec!["apt-get", "install", "-y", "-qq"];
-    install.extend(PACKAGES);
+    install.extend(flags);
+    install.extend(packages);
     run(&install)
 }
 

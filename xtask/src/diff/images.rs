@@ -1,7 +1,7 @@
-//! The pictures of a diff: the false-colour relative-error map, FLIP on the tone-mapped images
-//! (NVIDIA's reference implementation through `nv-flip`) and atomic PNG output.
+//! The pictures of a diff: the false-colour relative-error map (magma, from `colorous`) and
+//! atomic PNG output. FLIP runs in its own binary ([`super::flip_tool`]).
 
-use ggx_film::{OutputOptions, Vec3, tonemap_to_srgb8};
+use ggx_film::Vec3;
 use std::path::Path;
 
 /// Decades of relative error the false-colour map spans: `1e-7` (black) to `1` (white-yellow).
@@ -28,21 +28,14 @@ pub fn log_scale(error: f64) -> f32 {
 
 /// The false-colour difference image: each pixel's largest relative channel error on a log
 /// scale through the magma colour map, as 8-bit RGB.
-pub fn false_colour(a: &[Vec3], reference: &[Vec3], width: u32, height: u32) -> Vec<u8> {
-    let values: Vec<f32> = a.iter().zip(reference).map(|(&p, &q)| log_scale(pixel_rel_error(p, q))).collect();
-    let map = nv_flip::FlipImageFloat::with_data(width, height, &values);
-    map.apply_color_lut(&nv_flip::magma_lut()).to_vec()
-}
-
-/// Mean FLIP between the tone-mapped images (display-referred sRGB, 67 pixels per degree, the
-/// FLIP default) and the FLIP error map through magma as 8-bit RGB.
-pub fn flip(test: &[Vec3], reference: &[Vec3], width: u32, height: u32) -> (f64, Vec<u8>) {
-    let options = OutputOptions::default();
-    let to_flip =
-        |pixels: &[Vec3]| nv_flip::FlipImageRgb8::with_data(width, height, &tonemap_to_srgb8(pixels, &options));
-    let error = nv_flip::flip(to_flip(reference), to_flip(test), nv_flip::DEFAULT_PIXELS_PER_DEGREE);
-    let mean = f64::from(nv_flip::FlipPool::from_image(&error).mean());
-    (mean, error.apply_color_lut(&nv_flip::magma_lut()).to_vec())
+pub fn false_colour(a: &[Vec3], reference: &[Vec3]) -> Vec<u8> {
+    a.iter()
+        .zip(reference)
+        .flat_map(|(&p, &q)| {
+            let c = colorous::MAGMA.eval_continuous(f64::from(log_scale(pixel_rel_error(p, q))));
+            [c.r, c.g, c.b]
+        })
+        .collect()
 }
 
 /// Writes 8-bit RGB as PNG through a temporary file in the same directory and a rename.
@@ -84,28 +77,17 @@ mod tests {
     }
 
     #[test]
-    fn flip_is_zero_for_equal_images_and_grows_with_the_difference() {
-        let (w, h) = (16, 16);
-        let a: Vec<Vec3> = (0..w * h).map(|i| Vec3::splat((i % 7) as f32 / 7.0)).collect();
-        let (same, map) = flip(&a, &a, w, h);
-        assert_eq!(same, 0.0);
-        assert_eq!(map.len(), (3 * w * h) as usize);
-        let b: Vec<Vec3> = a.iter().map(|&p| p * 1.5).collect();
-        let c: Vec<Vec3> = a.iter().map(|&p| p * 3.0).collect();
-        let (small, _) = flip(&b, &a, w, h);
-        let (large, _) = flip(&c, &a, w, h);
-        assert!(0.0 < small && small < large && large <= 1.0, "{small} {large}");
-    }
-
-    #[test]
     fn false_colour_is_black_where_equal() {
         let a = vec![Vec3::ONE; 4];
-        let rgb = false_colour(&a, &a, 2, 2);
+        let rgb = false_colour(&a, &a);
         assert_eq!(rgb.len(), 12);
-        let lut = nv_flip::magma_lut().to_vec();
-        assert_eq!(&rgb[..3], &lut[..3]);
+        let black = colorous::MAGMA.eval_continuous(0.0);
+        assert_eq!(&rgb[..3], &[black.r, black.g, black.b]);
+        assert!(rgb[..3].iter().all(|&c| c < 8), "magma starts near black: {:?}", &rgb[..3]);
         let mut b = a.clone();
         b[3] = Vec3::splat(2.0);
-        assert_ne!(&false_colour(&b, &a, 2, 2)[9..], &lut[..3]);
+        let hot = false_colour(&b, &a);
+        assert_ne!(&hot[9..], &rgb[..3]);
+        assert!(hot[9] > 200, "an error of 1 is at the bright end: {:?}", &hot[9..]);
     }
 }

@@ -9,6 +9,7 @@
 //! error, the share of pixels over the pixel tolerance and mean FLIP against the scene's bounds
 //! in `scenes/tolerances/diff.toml`. Any scene over a bound, or no wgpu adapter, is a failure.
 
+mod flip_tool;
 mod images;
 mod report;
 mod tolerances;
@@ -81,6 +82,7 @@ pub fn run(args: &[String]) -> Result<(), String> {
     let all: Vec<String> = render::scene_paths(&[])?.iter().map(|p| render::scene_name(p)).collect();
     let tolerances = Tolerances::load(&render::scenes_dir().join("tolerances/diff.toml"), &all)?;
     let ctx = render::gpu_context()?;
+    let flip_tool = flip_tool::FlipTool::build()?;
     let out = render::output_dir("diff")?;
     let mut report = {
         // Relative to the workspace, so a committed copy of the report names no machine's paths.
@@ -90,7 +92,7 @@ pub fn run(args: &[String]) -> Result<(), String> {
     };
     for path in &paths {
         let name = render::scene_name(path);
-        let row = diff_scene(path, &name, &options, &tolerances, &ctx, out.join(&name))?;
+        let row = diff_scene(path, &name, &options, &tolerances, &ctx, &flip_tool, out.join(&name))?;
         eprintln!("{}", row.line());
         report.rows.push(row);
     }
@@ -108,6 +110,7 @@ fn diff_scene(
     options: &Options,
     tolerances: &Tolerances,
     ctx: &ggx_wgpu::GpuContext,
+    flip_tool: &flip_tool::FlipTool,
     dir: PathBuf,
 ) -> Result<Row, String> {
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
@@ -120,9 +123,8 @@ fn diff_scene(
     for (file, pixels) in [("cpu.exr", &b), ("wgpu.exr", &a)] {
         write_image(&dir.join(file), width, height, pixels, &output).map_err(|e| e.to_string())?;
     }
-    images::write_png(&dir.join("diff.png"), width, height, &images::false_colour(&a, &b, width, height))?;
-    let (flip, flip_map) = images::flip(&a, &b, width, height);
-    images::write_png(&dir.join("flip.png"), width, height, &flip_map)?;
+    images::write_png(&dir.join("diff.png"), width, height, &images::false_colour(&a, &b))?;
+    let flip = flip_tool.measure(&dir.join("wgpu.exr"), &dir.join("cpu.exr"), &dir.join("flip.png"))?;
     let tolerance = tolerances.get(name);
     let metrics = compare(&a, &b, tolerance.pixel).map_err(|e| format!("{name}: {e}"))?;
     Ok(Row {
