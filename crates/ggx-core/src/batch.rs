@@ -41,7 +41,9 @@ fn rsqrt_or_zero(len2: f32) -> f32 {
 /// space) and `u0[i], u1[i]` give `wi[i]` and its density `pdf[i] = D(wm) / (2 (wo.z + so))`.
 /// Processes `min` of all slice lengths and returns how many lanes got a valid sample.
 /// Any input gives a finite `wi` (the reflection of `wo`, so unit only for a unit `wo`) and a
-/// finite pdf `>= 0`; lanes past the common length are left untouched.
+/// finite pdf `>= 0`; lanes past the common length are left untouched. A delta lobe is not
+/// sampled here (every lane gets zero, as `GgxConductor::pdf` is zero for it): sample mirrors
+/// with [`GgxConductor::sample`].
 pub fn sample_vndf(
     dist: &TrowbridgeReitz,
     wo: Vec3Slices,
@@ -58,12 +60,13 @@ pub fn sample_vndf(
     let (ix, iy, iz, pdf) = (&mut wi.x[..n], &mut wi.y[..n], &mut wi.z[..n], &mut pdf[..n]);
     let (ax, ay) = dist.alphas();
     let inv_pi_axay = 1.0 / (core::f32::consts::PI * ax * ay);
+    let delta = dist.is_effectively_smooth();
     let mut valid = 0usize;
     for i in 0..n {
         let (wx, wy, wz) = (ox[i], oy[i], oz[i]);
-        // Stretched view direction.
+        // Stretched view direction; its length never below |wo.z| (TrowbridgeReitz::stretched_len).
         let (sx, sy) = (ax * wx, ay * wy);
-        let so = crate::math::sqrt(sx * sx + sy * sy + wz * wz);
+        let so = crate::math::sqrt(sx * sx + sy * sy + wz * wz).max(wz.abs());
         let inv = rsqrt_or_zero(so * so);
         let (vx, vy, vz) = (sx * inv, sy * inv, wz * inv);
         // Uniform point on the cap z in [-vz, 1].
@@ -91,7 +94,8 @@ pub fn sample_vndf(
         let (tx, ty) = (mx / ax, my / ay);
         let t = tx * tx + ty * ty + mz * mz;
         let p = inv_pi_axay / (t * t) / (2.0 * (wz + so));
-        let ok = wz > 0.0 && c > 0.0 && rz > 0.0 && p > 0.0 && p < f32::INFINITY;
+        let cos_om = wx * mx + wy * my + wz * mz;
+        let ok = !delta && wz > 0.0 && c > 0.0 && cos_om > 0.0 && rz > 0.0 && p > 0.0 && p < f32::INFINITY;
         ix[i] = if ok { rx } else { 0.0 };
         iy[i] = if ok { ry } else { 0.0 };
         iz[i] = if ok { rz } else { 0.0 };
@@ -124,12 +128,15 @@ pub fn eval(brdf: &GgxConductor, wo: Vec3Slices, wi: Vec3Slices, out: Vec3Slices
         let (mx, my, mz) = (hx * hinv, hy * hinv, hz * hinv);
         let t = mx * mx / ax2 + my * my / ay2 + mz * mz;
         let dm = inv_pi_axay / (t * t);
-        let so = crate::math::sqrt(c * c + ax2 * a * a + ay2 * b * b);
-        let si = crate::math::sqrt(g * g + ax2 * e * e + ay2 * f * f);
+        // Stretched lengths never below |w.z| (TrowbridgeReitz::stretched_len).
+        let so = crate::math::sqrt(c * c + ax2 * a * a + ay2 * b * b).max(c.abs());
+        let si = crate::math::sqrt(g * g + ax2 * e * e + ay2 * f * f).max(g.abs());
         let v = dm * g / (2.0 * (g * so + c * si));
-        let ok = !delta && c > 0.0 && g > 0.0 && v < f32::INFINITY;
+        // wo.wm > 0: a back-facing half vector (rounding where wo ~ -wi) reflects nothing.
+        let cos_om = a * mx + b * my + c * mz;
+        let ok = !delta && c > 0.0 && g > 0.0 && cos_om > 0.0 && v < f32::INFINITY;
         let v = if ok { v } else { 0.0 };
-        let fr = brdf.fresnel.eval(a * mx + b * my + c * mz);
+        let fr = brdf.fresnel.eval(cos_om);
         rx[i] = fr.x * v;
         ry[i] = fr.y * v;
         rz[i] = fr.z * v;
@@ -162,7 +169,10 @@ mod tests {
     #[test]
     fn batch_sampling_matches_scalar_spherical_caps() {
         let (wo, u) = lanes(4096);
-        for (ax, ay) in [(0.3f32, 0.3f32), (0.05, 0.5), (1.0, 1.0), (0.0011, 0.0011)] {
+        // The whole alpha range: deltas (below 1e-3, where the scalar pdf is 0), the threshold,
+        // near-mirrors, anisotropic and rough lobes.
+        let alphas = [(1e-4f32, 1e-4f32), (5e-4, 9e-4), (9.99e-4, 9.99e-4), (1e-3, 1e-3), (0.0011, 0.0011)];
+        for (ax, ay) in alphas.into_iter().chain([(0.01, 0.002), (0.3, 0.3), (0.05, 0.5), (1.0, 1.0)]) {
             let brdf = GgxConductor::new(ax, ay, Fresnel::One);
             let (x, y, z): (Vec<f32>, Vec<f32>, Vec<f32>) =
                 (wo.iter().map(|w| w.x).collect(), wo.iter().map(|w| w.y).collect(), wo.iter().map(|w| w.z).collect());
@@ -179,8 +189,12 @@ mod tests {
             );
             let mut scalar_valid = 0;
             for i in 0..4096 {
-                let s = brdf.sample(wo[i], u[i], Sampling::SphericalCaps);
+                let s = brdf.sample(wo[i], u[i], Sampling::SphericalCaps).filter(|s| !s.is_delta);
+                if brdf.is_delta() {
+                    assert_eq!((rx[i], ry[i], rz[i], pdf[i]), (0.0, 0.0, 0.0, 0.0), "{ax} {ay} lane {i}: a delta lobe");
+                }
                 if let Some(s) = s {
+                    assert_eq!(brdf.pdf(wo[i], s.wi, Sampling::SphericalCaps) > 0.0, pdf[i] > 0.0, "lane {i}");
                     scalar_valid += 1;
                     let b = Vec3::new(rx[i], ry[i], rz[i]);
                     assert!((s.wi - b).length() < 1e-4, "{ax} {ay} lane {i}: {:?} vs {b:?}", s.wi);
@@ -195,11 +209,20 @@ mod tests {
 
     #[test]
     fn batch_eval_matches_scalar() {
+        for (ax, ay) in [(0.2f32, 0.6f32), (1e-4, 1e-4), (9e-4, 5e-4), (1e-3, 1e-3), (0.004, 0.02), (1.0, 1.0)] {
+            batch_eval_matches_scalar_at(ax, ay);
+        }
+    }
+
+    fn batch_eval_matches_scalar_at(ax: f32, ay: f32) {
         let (wo, u) = lanes(2048);
-        let wi: Vec<Vec3> = u.iter().map(|&v| crate::warp::sample_cosine_hemisphere(v)).collect();
+        let mut wi: Vec<Vec3> = u.iter().map(|&v| crate::warp::sample_cosine_hemisphere(v)).collect();
+        // Grazing pairs where wo ~ -wi: the half vector is back-facing after rounding.
+        wi[3] = Vec3::new(-wo[3].x, -wo[3].y, 1e-7).normalize();
+        wi[4] = Vec3::new(1.0, 0.0, 1e-30);
         let brdf = GgxConductor::new(
-            0.2,
-            0.6,
+            ax,
+            ay,
             Fresnel::Conductor { eta: Vec3::new(0.2, 0.9, 1.1), k: Vec3::new(3.9, 2.4, 2.2) },
         );
         let col = |v: &Vec<Vec3>, f: fn(&Vec3) -> f32| -> Vec<f32> { v.iter().map(f).collect() };
@@ -215,7 +238,7 @@ mod tests {
         for i in 0..2048 {
             let s = brdf.eval(wo[i], wi[i]);
             let v = Vec3::new(r[i], g[i], b[i]);
-            assert!((s - v).length() <= 1e-4 * s.length().max(1e-3), "lane {i}: {s:?} vs {v:?}");
+            assert!((s - v).length() <= 1e-4 * s.length().max(1e-3), "{ax} {ay} lane {i}: {s:?} vs {v:?}");
         }
     }
 }
