@@ -1,4 +1,4 @@
-//! The command line: `ggx render` and `ggx info`, parsed and range-checked by clap (whose
+//! The command line: `ggx render`, `ggx merge`, `ggx info` and `ggx export`, parsed and range-checked by clap (whose
 //! usage errors exit with code 2).
 
 use std::path::PathBuf;
@@ -17,6 +17,7 @@ Examples:
   ggx render scenes/cornell.toml --samples 0..512 -o part-0.exr
   ggx render scenes/cornell.toml --samples 512..1024 -o part-1.exr
   ggx merge part-0.exr part-1.exr -o cornell.exr
+  ggx export scenes/peer/three-spheres.toml --format mitsuba -o peer/three-spheres.xml
 
 Exit codes: 0 success, 1 error, 2 usage error, 130 interrupted (the partial image is written).";
 
@@ -44,6 +45,20 @@ Examples:
 The parts must come from the same scene, settings, seed, frame, backend and ggx version and
 hold disjoint samples; the merged image is the same, bit for bit, as one render of them all.";
 
+const EXPORT_EXAMPLES: &str = "\
+Examples:
+  ggx export scenes/peer/three-spheres.toml --format mitsuba -o peer/three-spheres.xml
+  ggx export scenes/peer/bunny.toml -o bunny.xml --width 512 --spp 1024 --env-upsample 4
+  python3 -c \"import mitsuba as mi; mi.set_variant('llvm_ad_rgb'); \\
+    mi.Bitmap(mi.render(mi.load_file('peer/three-spheres.xml'))).write('m.exr')\"
+
+Writes the exact triangles ggx renders (one mesh file per material beside the XML, shading
+normals kept), diffuse and conductor materials (eta/k or F = 1; rough, anisotropic or smooth),
+emitters, a constant or map environment (the map resampled onto Mitsuba's grid and axes), the
+camera (fov_axis y) and the path integrator (max_depth = ggx's + 1: Mitsuba counts path
+segments). A used material without a one-to-one twin (plastic, dielectric, Schlick f0, energy
+compensation on) is refused, naming it.";
+
 /// Renders GGX microfacet scenes with a CPU path tracer.
 #[derive(Debug, Parser)]
 #[command(name = "ggx", version, propagate_version = true, after_help = EXAMPLES)]
@@ -64,6 +79,9 @@ pub enum Command {
     /// Add film files rendered with --samples, --crop or --checkpoint into one image.
     #[command(after_help = MERGE_EXAMPLES)]
     Merge(MergeArgs),
+    /// Write a scene for another renderer (Mitsuba 3), with its meshes and environment map.
+    #[command(after_help = EXPORT_EXAMPLES)]
+    Export(ExportArgs),
 }
 
 /// `ggx render`.
@@ -102,7 +120,8 @@ pub struct RenderArgs {
     pub resume: Option<PathBuf>,
 
     /// The frame of an animated camera ([[camera.keys]]) to render [default: 0].
-    #[arg(long, value_name = "N", conflicts_with = "frames")]
+    #[arg(long, value_name = "N", conflicts_with = "frames",
+          value_parser = clap::value_parser!(u32).range(0..i64::from(ggx_scene::MAX_FRAMES)))]
     pub frame: Option<u32>,
 
     /// Render frames [A, B) of an animated camera, one image each (`#` in the output name).
@@ -157,7 +176,8 @@ pub struct RenderArgs {
     pub generic: bool,
 
     /// Also write the render's statistics as JSON: scene, backend, adapter, kernel, spp,
-    /// time, camera samples/s, rays/s and the time of every pass.
+    /// time, camera samples/s, rays/s and the time of every pass (with --frames, one file per
+    /// frame: `#` in the name).
     #[arg(long, value_name = "FILE.json")]
     pub stats: Option<PathBuf>,
 
@@ -211,6 +231,76 @@ pub struct MergeArgs {
     /// Limits on what is read and allocated.
     #[command(flatten, next_help_heading = "Limits")]
     pub limits: LimitArgs,
+}
+
+/// `ggx export`.
+#[derive(Debug, Args)]
+pub struct ExportArgs {
+    /// Scene file (TOML).
+    pub scene: PathBuf,
+
+    /// The other renderer's format.
+    #[arg(long, value_enum, default_value_t = ExportFormat::Mitsuba)]
+    pub format: ExportFormat,
+
+    /// The scene file to write (.xml); meshes and the environment map go beside it, named
+    /// after it.
+    #[arg(short, long, value_name = "OUT.xml")]
+    pub output: PathBuf,
+
+    /// Mesh file format.
+    #[arg(long, value_enum, default_value_t = MeshFormatArg::Ply)]
+    pub mesh_format: MeshFormatArg,
+
+    /// Grid points per ggx texel in the exported environment map: Mitsuba interpolates
+    /// bilinearly where ggx looks up the nearest texel, and the difference shrinks as 1/K.
+    #[arg(long, value_name = "K", default_value_t = 2, value_parser = clap::value_parser!(u32).range(1..=i64::from(crate::mitsuba::envmap::MAX_UPSAMPLE)))]
+    pub env_upsample: u32,
+
+    /// Samples per pixel [default: the scene's integrator.spp].
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SPP)))]
+    pub spp: Option<u32>,
+
+    /// Seed of Mitsuba's sampler [default: the scene's integrator.seed].
+    #[arg(long, value_name = "S", value_parser = clap::value_parser!(u64).range(0..=MAX_SEED))]
+    pub seed: Option<u64>,
+
+    /// Image width; alone, the height follows the scene's aspect ratio.
+    #[arg(long, value_name = "W", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_RESOLUTION)))]
+    pub width: Option<u32>,
+
+    /// Image height; alone, the width follows the scene's aspect ratio.
+    #[arg(long, value_name = "H", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_RESOLUTION)))]
+    pub height: Option<u32>,
+
+    /// The frame of an animated camera ([[camera.keys]]) to export [default: 0].
+    #[arg(long, value_name = "N")]
+    pub frame: Option<u32>,
+
+    /// Energy compensation of every GGX material; Mitsuba's conductors are single-scattering,
+    /// so a compensated conductor is refused [default: the scene's].
+    #[arg(long, value_enum, value_name = "ON|OFF")]
+    pub energy_compensation: Option<OnOff>,
+
+    /// Limits on what is read and allocated.
+    #[command(flatten, next_help_heading = "Limits")]
+    pub limits: LimitArgs,
+}
+
+/// `ggx export --format`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ExportFormat {
+    /// Mitsuba 3 scene XML (version 3.0.0).
+    Mitsuba,
+}
+
+/// `ggx export --mesh-format`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum MeshFormatArg {
+    /// Binary little-endian PLY.
+    Ply,
+    /// Wavefront OBJ.
+    Obj,
 }
 
 /// Largest accepted `--threads`.
@@ -350,12 +440,33 @@ mod tests {
             assert_eq!(err.exit_code(), 2, "{bad:?}");
         }
         assert!(parse(&["--frame", "1", "--frames", "0..2"]).is_err());
+        assert!(parse(&["--frame", "4294967295"]).is_err());
         assert!(parse(&["--frames", "0..2", "--resume", "x.exr"]).is_err());
         assert!(parse(&["--checkpoint-every", "0"]).is_err());
         let cli = Cli::try_parse_from(["ggx", "merge", "a.exr", "b.exr", "-o", "m.png", "--allow-missing"]).unwrap();
         let Command::Merge(m) = cli.command else { unreachable!("parsed a merge command") };
         assert_eq!((m.parts.len(), m.allow_missing), (2, true));
         assert!(Cli::try_parse_from(["ggx", "merge", "-o", "m.png"]).is_err());
+    }
+
+    #[test]
+    fn export_arguments() {
+        let cli = Cli::try_parse_from(["ggx", "export", "s.toml", "--format", "mitsuba", "-o", "s.xml"]).unwrap();
+        let Command::Export(e) = cli.command else { unreachable!("parsed an export command") };
+        assert_eq!((e.format, e.mesh_format, e.env_upsample), (ExportFormat::Mitsuba, MeshFormatArg::Ply, 2));
+        assert_eq!((e.spp, e.width, e.energy_compensation), (None, None, None));
+        let cli = Cli::try_parse_from([
+            "ggx", "export", "s.toml", "-o", "s.xml", "--mesh-format", "obj", "--env-upsample", "4", "--spp", "8",
+            "--width", "64", "--energy-compensation", "off",
+        ])
+        .unwrap();
+        let Command::Export(e) = cli.command else { unreachable!("parsed an export command") };
+        assert_eq!((e.mesh_format, e.env_upsample, e.spp, e.width), (MeshFormatArg::Obj, 4, Some(8), Some(64)));
+        assert_eq!(e.energy_compensation, Some(OnOff::Off));
+        for bad in [&["--format", "pbrt"][..], &["--env-upsample", "0"], &["--env-upsample", "9"], &["--spp", "0"]] {
+            let args = [&["ggx", "export", "s.toml", "-o", "s.xml"][..], bad].concat();
+            assert_eq!(Cli::try_parse_from(args).unwrap_err().exit_code(), 2, "{bad:?}");
+        }
     }
 
     #[test]

@@ -1,5 +1,5 @@
-//! `ggx`: renders ggx scenes on the CPU or a GPU, merges renders split across machines and
-//! describes scenes. `ggx --help` for usage.
+//! `ggx`: renders ggx scenes on the CPU or a GPU, merges renders split across machines,
+//! describes scenes and exports them for Mitsuba 3. `ggx --help` for usage.
 //!
 //! Exit codes: 0 success, 1 error, 2 usage error, 130 interrupted by Ctrl-C or SIGTERM
 //! (after writing the image rendered so far).
@@ -8,6 +8,7 @@ mod accel;
 mod args;
 mod backend;
 mod exit;
+mod export_cmd;
 mod film_out;
 mod frames;
 mod info_cmd;
@@ -15,6 +16,7 @@ mod interrupt;
 mod limits_args;
 mod memory;
 mod merge_cmd;
+mod mitsuba;
 mod output;
 mod overrides;
 mod progress;
@@ -42,6 +44,7 @@ fn main() -> ExitCode {
         Command::Render(args) => render_cmd::run(args),
         Command::Info(args) => info_cmd::run(args).map(|()| Outcome::Done),
         Command::Merge(args) => merge_cmd::run(args),
+        Command::Export(args) => export_cmd::run(args),
     };
     match result {
         Ok(outcome) => outcome.exit_code(),

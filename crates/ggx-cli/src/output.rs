@@ -35,12 +35,30 @@ pub fn check_side_file(path: &Path, ext: &str, what: &str, output: &Path, inputs
     if !path.extension().is_some_and(|e| e.eq_ignore_ascii_case(ext)) {
         bail!("{shown}: the {what} file must end in .{ext}");
     }
-    if path == output || same_file(path, output) {
+    if path == output || same_file(path, output) || lexical(path) == lexical(output) {
         bail!("{shown}: is also the image output");
     }
     check_not_input(path, inputs)?;
     ggx_film::check_file(path)?;
     Ok(())
+}
+
+/// `path` made absolute and normalized without touching the file system (`.` dropped, `..`
+/// taken back), so that two spellings of a file that does not exist yet compare equal.
+fn lexical(path: &Path) -> std::path::PathBuf {
+    use std::path::Component;
+    let absolute = std::env::current_dir().map(|d| d.join(path)).unwrap_or_else(|_| path.to_owned());
+    let mut out = std::path::PathBuf::new();
+    for c in absolute.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir => {
+                out.pop();
+            }
+            other => out.push(other),
+        }
+    }
+    out
 }
 
 /// Fails when `path` is one of `inputs` (the files a loaded scene reads).
@@ -89,6 +107,14 @@ mod tests {
         check(&ok, &[]).unwrap();
         assert!(!ok.exists(), "the check leaves nothing behind");
         std::fs::remove_dir(&dir).unwrap();
+    }
+
+    #[test]
+    fn side_files_are_not_the_output_by_any_spelling() {
+        let msg = check_side_file(Path::new("./a/../out.exr"), "exr", "checkpoint", Path::new("out.exr"), &[]);
+        assert!(msg.unwrap_err().to_string().contains("is also the image output"));
+        let msg = check_side_file(Path::new("c.json"), "exr", "checkpoint", Path::new("out.exr"), &[]);
+        assert_eq!(msg.unwrap_err().to_string(), "c.json: the checkpoint file must end in .exr");
     }
 
     #[test]

@@ -1,7 +1,7 @@
 //! `ggx render`: load, apply overrides, render each frame with a progress bar, write the image
 //! (also after Ctrl-C), the checkpoints and statistics, and print a summary.
 
-use std::cell::Cell;
+use std::cell::{Cell, RefCell};
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -42,7 +42,7 @@ pub fn run(args: &RenderArgs) -> Result<Outcome> {
         output::check_side_file(path, "exr", "checkpoint", &first_output, &[&args.scene])?;
     }
     if let Some(stats) = &args.stats {
-        output::check_stats(stats, &first_output, &[&args.scene])?;
+        output::check_stats(&frames::output_path(stats, args.frames.map(|f| f[0]))?, &first_output, &[&args.scene])?;
     }
 
     let limits = args.limits.limits();
@@ -65,16 +65,26 @@ pub fn run(args: &RenderArgs) -> Result<Outcome> {
         (None, None) => 0..1,
     };
     check_frames(&scene, frame_list.clone())?;
+    // Everything but the camera, hashed once for every frame.
+    let hash = crate::scene_hash::SceneHash::new(&scene);
     for frame in frame_list.clone() {
+        // Between frames nothing is being rendered: a signal exits at once.
+        interrupt.set_phase(Phase::Preparing);
         scene.set_frame(frame).with_context(|| format!("{}", args.scene.display()))?;
         let out = frames::output_path(&args.output, args.frames.map(|_| frame))?;
+        let stats = args.stats.as_ref().map(|s| frames::output_path(s, args.frames.map(|_| frame))).transpose()?;
         if out != first_output {
             output::check(&out, &inputs)?;
         }
+        if let Some(stats) = &stats {
+            output::check_stats(stats, &out, &inputs)?;
+        }
+        let target =
+            Target { image: &out, stats: stats.as_deref(), frame, scene_hash: hash.with_camera(&scene.camera) };
         if frame_list.len() > 1 {
             eprintln!("frame {frame} ({} of {})", frame - frame_list.start + 1, frame_list.len());
         }
-        let outcome = render_frame(&scene, args, &device, &out, frame, bar.clone(), &interrupt)?;
+        let outcome = render_frame(&scene, args, &device, &target, bar.clone(), &interrupt)?;
         if outcome == Outcome::Interrupted {
             return Ok(outcome);
         }
@@ -88,28 +98,44 @@ fn exact(args: &RenderArgs) -> bool {
     args.samples.is_some() || args.crop.is_some() || args.checkpoint.is_some() || args.resume.is_some()
 }
 
-/// Renders one frame of `scene` to `out`.
+/// Where one frame goes and what identifies it.
+struct Target<'a> {
+    image: &'a Path,
+    stats: Option<&'a Path>,
+    frame: u32,
+    scene_hash: String,
+}
+
+/// The backend as a film file names it: what must be the same for two films' bits to add up
+/// (the CPU's acceleration structure decides ties between triangles; a GPU's adapter and
+/// driver its arithmetic).
+fn backend_id(device: &Device, args: &RenderArgs) -> String {
+    match device {
+        Device::Cpu => format!("cpu {}", accel::name(args.accel)),
+        Device::Wgpu(ctx) => format!("wgpu {}", ctx.describe()),
+    }
+}
+
+/// Renders one frame of `scene` to `target`.
 fn render_frame(
     scene: &Scene,
     args: &RenderArgs,
     device: &Device,
-    out: &Path,
-    frame: u32,
+    target: &Target<'_>,
     bar: ProgressBar,
     interrupt: &Interrupt,
 ) -> Result<Outcome> {
-    let backend_name = match device {
-        Device::Cpu => "cpu",
-        Device::Wgpu(_) => "wgpu",
-    };
+    let out = target.image;
+    let spp = scene.integrator.spp.max(1);
     let mut info = FilmInfo {
         scene: args.scene.display().to_string(),
-        scene_hash: crate::scene_hash::scene_hash(scene),
+        scene_hash: target.scene_hash.clone(),
         seed: scene.integrator.seed,
-        frame,
-        samples: args.samples.unwrap_or([0, scene.integrator.spp.max(1)]),
+        frame: target.frame,
+        samples: args.samples.unwrap_or([0, spp]),
+        total: spp.max(args.samples.map_or(0, |s| s[1])),
         window: args.crop.unwrap_or([0, 0, scene.camera.resolution[0], scene.camera.resolution[1]]),
-        backend: backend_name.to_owned(),
+        backend: backend_id(device, args),
         version: env!("CARGO_PKG_VERSION").to_owned(),
         stats: Vec::new(),
     };
@@ -118,30 +144,32 @@ fn render_frame(
     if let Some(path) = &args.resume {
         let (saved, film) = film_out::read_for_resume(path, &info)?;
         (info.samples, info.window) = film_out::resumed_job(&saved, args.samples, args.crop)?;
+        info.total = saved.total.max(info.samples[1]);
         let held: u64 = film.pixels().iter().map(|p| u64::from(p.samples)).sum();
-        eprintln!(
-            "continuing {}: {held} camera samples of {}..{} held",
-            path.display(),
-            info.samples[0],
-            info.samples[1]
-        );
-        start_film = Some(film);
+        let [a, b] = info.samples;
+        eprintln!("continuing {}: {held} camera samples of {a}..{b} held", path.display());
+        start_film = Some((path, film));
     }
-    let film = match start_film {
-        Some(film) => film,
-        None => Film::try_new(width, height).with_context(|| format!("cannot allocate the {width}x{height} image"))?,
-    };
     let options = RenderOptions {
         threads: usize::from(args.threads),
         specialize: !args.generic,
         samples: Some(info.samples),
         window: Some(info.window),
     };
+    // The range, window and film to continue are checked before the BVH is built.
+    let checked = ggx_cpu::Job::new(&options, spp, [width, height])?;
+    let film = match start_film {
+        Some((path, film)) => {
+            checked.check_film(&film, [width, height]).with_context(|| format!("{}", path.display()))?;
+            film
+        }
+        None => Film::try_new(width, height).with_context(|| format!("cannot allocate the {width}x{height} image"))?,
+    };
 
     let passes = PassLog::default();
     let checkpoint = Checkpoint::new(args, &info);
     let job = Job { scene, args, options, passes: &passes, checkpoint: &checkpoint, interrupt };
-    let cpu = || ("cpu", stats::cpu_adapter(usize::from(args.threads)));
+    let cpu = || (format!("cpu {}", accel::name(args.accel)), stats::cpu_adapter(usize::from(args.threads)));
     let (result, (backend, adapter)) = match device {
         Device::Cpu => (job.cpu(bar, film)?, cpu()),
         Device::Wgpu(ctx) => match job.wgpu(ctx, bar.clone(), film.clone()) {
@@ -149,10 +177,10 @@ fn render_frame(
                 eprintln!("{}: rendering on the CPU", crate::exit::message(&e));
                 (job.cpu(bar, film)?, cpu())
             }
-            other => (other?, ("wgpu", ctx.describe())),
+            other => (other?, (format!("wgpu {}", ctx.describe()), ctx.describe())),
         },
     };
-    info.backend = backend.to_owned();
+    info.backend = backend;
     let requested = info.samples[1] - info.samples[0];
     if result.camera_samples == 0 && args.resume.is_none() {
         eprintln!("interrupted before the first pass was done: no image written");
@@ -166,14 +194,21 @@ fn render_frame(
     }
 
     interrupt.set_phase(Phase::Writing);
-    let context = stats::StatsContext { scene: &args.scene, output: out, backend, adapter, spp_requested: requested };
+    let backend_kind = if info.backend.starts_with("cpu") { "cpu" } else { "wgpu" };
+    let context = stats::StatsContext {
+        scene: &args.scene,
+        output: out,
+        backend: backend_kind,
+        adapter,
+        spp_requested: requested,
+    };
     let stats = Stats::new(context, &result, passes.passes());
     info.stats = stats.header_pairs();
     let options = OutputOptions { exposure: args.exposure, tonemap: tone_map(args.tonemap) };
     // The errors name the path and what failed.
     film_out::write(out, &result.film, &info, exact(args), &options)?;
     checkpoint.write(&result.film, &info)?;
-    if let Some(path) = &args.stats {
+    if let Some(path) = target.stats {
         stats.write(path)?;
     }
 
@@ -188,7 +223,7 @@ fn render_frame(
 struct Checkpoint {
     path: Option<PathBuf>,
     every: f64,
-    info: FilmInfo,
+    info: RefCell<FilmInfo>,
     last: Cell<Instant>,
     failed: Cell<bool>,
 }
@@ -198,7 +233,7 @@ impl Checkpoint {
         Checkpoint {
             path: args.checkpoint.clone(),
             every: f64::from(args.checkpoint_every),
-            info: info.clone(),
+            info: RefCell::new(info.clone()),
             last: Cell::new(Instant::now()),
             failed: Cell::new(false),
         }
@@ -212,11 +247,16 @@ impl Checkpoint {
             return;
         }
         self.last.set(Instant::now());
-        if let Err(e) = film_out::write(path, film, &self.info, true, &OutputOptions::default())
+        if let Err(e) = film_out::write(path, film, &self.info.borrow(), true, &OutputOptions::default())
             && !self.failed.replace(true)
         {
             eprintln!("warning: checkpoint not written: {}", crate::exit::message(&e));
         }
+    }
+
+    /// Names the backend that renders (the CPU after a GPU fallback), before any write.
+    fn set_backend(&self, backend: String) {
+        self.info.borrow_mut().backend = backend;
     }
 
     /// The final write, at the end of the render (also after Ctrl-C).
@@ -241,6 +281,7 @@ struct Job<'a> {
 impl Job<'_> {
     /// Builds the BVH and renders on the CPU.
     fn cpu(&self, bar: ProgressBar, film: Film) -> Result<RenderResult> {
+        self.checkpoint.set_backend(format!("cpu {}", accel::name(self.args.accel)));
         let renderer = Renderer::new(self.scene, accel::kind(self.args.accel));
         let where_ = format!(
             "the CPU, {} built in {}",
@@ -268,6 +309,7 @@ impl Job<'_> {
 
     /// Uploads the scene and renders on the GPU.
     fn wgpu(&self, ctx: &GpuContext, bar: ProgressBar, film: Film) -> Result<RenderResult> {
+        self.checkpoint.set_backend(format!("wgpu {}", ctx.describe()));
         let renderer = WgpuRenderer::new(self.scene, ctx)?;
         self.announce(&format!("{}, BVH2", ctx.adapter_info().name));
         let progress = self.progress(bar, &film);

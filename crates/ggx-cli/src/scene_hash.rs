@@ -5,30 +5,44 @@ use std::fmt::Write as _;
 use ggx_scene::Scene;
 use sha2::{Digest, Sha256};
 
-/// SHA-256 (first 128 bits, hex) of everything in the loaded scene that decides a sample's
-/// value: the camera of the frame, materials, geometry, lights, environment and the integrator
-/// settings except the sample count and time budget (which decide how many samples, not their
-/// values). File paths are left out, so the same scene hashes alike in any directory.
-pub fn scene_hash(scene: &Scene) -> String {
-    let mut hasher = HashWriter(Sha256::new());
-    let settings = ggx_scene::IntegratorSettings { spp: 0, time_budget: None, ..scene.integrator };
-    // Writing to a hasher cannot fail.
-    let _ = write!(
-        hasher,
-        "{:?}{:?}{:?}{:?}{:?}{:?}{:?}{:?}",
-        scene.camera,
-        settings,
-        scene.materials,
-        scene.material_names,
-        scene.mesh,
-        scene.lights,
-        scene.environment,
-        scene.features
-    );
-    hasher.0.finalize()[..16].iter().fold(String::new(), |mut s, b| {
-        let _ = write!(s, "{b:02x}");
-        s
-    })
+/// The scene hash: SHA-256 (first 128 bits, hex) of everything in the loaded scene that decides
+/// a sample's value: the camera of the frame, materials, geometry, lights, environment and the
+/// integrator settings except the sample count and time budget (which decide how many
+/// samples, not their values). File paths are left out, so the same scene hashes alike in any
+/// directory. Everything but the camera is hashed once for all the frames of an animation
+/// (formatting a large mesh is the slow part).
+pub struct SceneHash(Vec<u8>);
+
+impl SceneHash {
+    /// Hashes everything but the camera.
+    pub fn new(scene: &Scene) -> SceneHash {
+        let mut hasher = HashWriter(Sha256::new());
+        let settings = ggx_scene::IntegratorSettings { spp: 0, time_budget: None, ..scene.integrator };
+        // Writing to a hasher cannot fail.
+        let _ = write!(
+            hasher,
+            "{:?}{:?}{:?}{:?}{:?}{:?}{:?}",
+            settings,
+            scene.materials,
+            scene.material_names,
+            scene.mesh,
+            scene.lights,
+            scene.environment,
+            scene.features
+        );
+        SceneHash(hasher.0.finalize().to_vec())
+    }
+
+    /// The scene hash with `camera` (a frame's), as hex.
+    pub fn with_camera(&self, camera: &ggx_scene::Camera) -> String {
+        let mut hasher = HashWriter(Sha256::new());
+        hasher.0.update(&self.0);
+        let _ = write!(hasher, "{camera:?}");
+        hasher.0.finalize()[..16].iter().fold(String::new(), |mut s, b| {
+            let _ = write!(s, "{b:02x}");
+            s
+        })
+    }
 }
 
 /// Feeds formatted text to a hasher without building the string.
@@ -71,6 +85,10 @@ radius = 1
         let scene = ggx_scene::load_scene(&path).unwrap();
         std::fs::remove_dir_all(&dir).unwrap();
         scene
+    }
+
+    fn scene_hash(scene: &Scene) -> String {
+        SceneHash::new(scene).with_camera(&scene.camera)
     }
 
     #[test]

@@ -8,8 +8,8 @@ use std::path::Path;
 use ggx_film::{Film, FilmInfo};
 use support::{TempDir, ggx, scene};
 
-/// A cheap render: 40x30 pixels of the three-spheres scene (area light, environment,
-/// conductors, plastic).
+/// A cheap render: 40x30 pixels, 40 samples per pixel in all, of the three-spheres scene (area
+/// light, environment, conductors, plastic).
 const SIZE: [&str; 4] = ["--width", "40", "--height", "30"];
 
 /// Runs `ggx args`, expecting success; returns stdout.
@@ -28,11 +28,12 @@ fn fails(args: &[&str]) -> String {
     err
 }
 
-/// Renders `extra` of three-spheres into `dir/name`.
+/// Renders `extra` of three-spheres into `dir/name` (40 spp unless `extra` says otherwise).
 fn render(dir: &TempDir, name: &str, extra: &[&str]) -> String {
     let out = dir.path().join(name);
     let base = ["render", &scene("three-spheres.toml"), "-o", out.to_str().unwrap()];
-    ok(&[&base[..], &SIZE, extra].concat())
+    let spp: &[&str] = if extra.contains(&"--spp") { &[] } else { &["--spp", "40"] };
+    ok(&[&base[..], &SIZE, spp, extra].concat())
 }
 
 fn film(dir: &TempDir, name: &str) -> (FilmInfo, Film) {
@@ -47,9 +48,10 @@ fn path(dir: &TempDir, name: &str) -> String {
 fn any_split_merges_to_the_single_render_bit_for_bit() {
     let dir = TempDir::new("parts-split");
     render(&dir, "whole.exr", &["--samples", "0..40"]);
-    render(&dir, "plain.exr", &["--spp", "40"]);
+    render(&dir, "plain.exr", &[]);
     let (info, whole) = film(&dir, "whole.exr");
-    assert_eq!((info.samples, info.window, info.backend.as_str()), ([0, 40], [0, 0, 40, 30], "cpu"));
+    assert_eq!((info.samples, info.total, info.window), ([0, 40], 40, [0, 0, 40, 30]));
+    assert_eq!(info.backend, "cpu cwbvh", "the BVH decides ties between triangles: part of the identity");
     assert!(info.stats.iter().any(|(k, _)| k == "cameraSamplesPerSecond"), "{:?}", info.stats);
     // The plain image is the same mean.
     let plain = ggx_film::read_exr(&dir.path().join("plain.exr")).unwrap().2;
@@ -96,6 +98,7 @@ fn merge_refuses_overlaps_strangers_and_holes() {
     render(&dir, "c.exr", &["--samples", "16..20"]);
     render(&dir, "seed.exr", &["--samples", "8..16", "--seed", "5"]);
     render(&dir, "plain.exr", &["--spp", "2"]);
+    render(&dir, "bvh2.exr", &["--samples", "8..16", "--accel", "bvh2"]);
     let merge = |parts: &[&str], out: &str| {
         let mut args = vec!["merge".to_owned()];
         args.extend(parts.iter().map(|p| path(&dir, p)));
@@ -110,6 +113,14 @@ fn merge_refuses_overlaps_strangers_and_holes() {
     let err = run(merge(&["a.exr", "c.exr"], "x.exr"));
     assert!(err.contains("samples 8..16: no part was rendered for them"), "{err}");
     assert!(err.contains("--allow-missing"), "{err}");
+    let err = run(merge(&["a.exr", "bvh2.exr"], "x.exr"));
+    assert!(err.contains("was rendered on cpu bvh2, but"), "{err}");
+    // Without the first or the last part, the render is not complete.
+    render(&dir, "rest.exr", &["--samples", "8..40"]);
+    let err = run(merge(&["rest.exr"], "x.exr"));
+    assert!(err.contains("samples 0..8: no part was rendered for them"), "{err}");
+    let err = run(merge(&["a.exr"], "x.exr"));
+    assert!(err.contains("samples 8..40: no part was rendered for them"), "{err}");
     let err = run(merge(&["a.exr", "plain.exr"], "x.exr"));
     assert!(err.contains("holds no exact film"), "{err}");
     assert!(!dir.path().join("x.exr").exists());
@@ -118,21 +129,40 @@ fn merge_refuses_overlaps_strangers_and_holes() {
     args.push("--allow-missing".into());
     let err = run(args);
     assert!(err.contains("leave gaps"), "{err}");
+    // A missing window is missing too.
+    render(&dir, "left.exr", &["--samples", "0..40", "--crop", "0,0,20,30"]);
+    let err = run(merge(&["left.exr"], "x.exr"));
+    assert!(err.contains("600 of 1200 pixels lack samples of 0..40"), "{err}");
+    assert!(err.contains("tile (32, 0)-(40, 16): samples from 0 on"), "{err}");
+    // Gaps can be shown in a PNG.
+    let mut args = merge(&["a.exr", "c.exr"], "gaps.png");
+    args.push("--allow-missing".into());
+    ok(&args.iter().map(String::as_str).collect::<Vec<_>>());
     render(&dir, "crop.exr", &["--samples", "8..16", "--crop", "0,0,8,8"]);
     let mut args = merge(&["a.exr", "crop.exr"], "tail.exr");
     args.push("--allow-missing".into());
     ok(&args.iter().map(String::as_str).collect::<Vec<_>>());
     let (_, tail) = film(&dir, "tail.exr");
     assert_eq!((tail.pixels()[0].samples, tail.pixels()[39].samples), (16, 8));
-    // Parts need .exr.
+    // Parts need .exr; a checkpoint is never the output, by any spelling; a bad window fails
+    // before anything is built.
     let err = fails(&["render", &scene("three-spheres.toml"), "-o", &path(&dir, "p.png"), "--samples", "0..4"]);
     assert!(err.contains("--samples writes an exact film, which needs an .exr file"), "{err}");
+    let same = format!("{}/./o.exr", dir.path().display());
+    let err = fails(&["render", &scene("three-spheres.toml"), "-o", &path(&dir, "o.exr"), "--checkpoint", &same]);
+    assert!(err.contains("is also the image output"), "{err}");
+    let err = fails(
+        &[&["render", &scene("three-spheres.toml"), "-o", &path(&dir, "w.exr")][..], &SIZE, &["--crop", "0,0,41,2"]]
+            .concat(),
+    );
+    assert!(err.contains("the pixel window 0,0,41,2 is empty or leaves the 40x30 image"), "{err}");
+    assert!(!err.contains("built in"), "checked before the BVH: {err}");
 }
 
 #[test]
 fn checkpoints_resume_and_extend_to_the_same_bits() {
     let dir = TempDir::new("parts-resume");
-    render(&dir, "whole.exr", &["--samples", "0..96"]);
+    render(&dir, "whole.exr", &["--samples", "0..96", "--spp", "96"]);
     // A time budget stops the first run early; its checkpoint holds what it rendered.
     let ckpt = path(&dir, "ckpt.exr");
     render(&dir, "first.png", &["--spp", "64", "--time", "0.05", "--checkpoint", &ckpt, "--checkpoint-every", "0.01"]);
@@ -175,7 +205,12 @@ fn frames_render_the_camera_path() {
     let template = path(&dir, "t-##.exr");
     let turntable = scene("turntable.toml");
     let small = ["--width", "24", "--height", "16", "--spp", "2"];
-    ok(&[&["render", &turntable, "-o", &template, "--frames", "0..3"][..], &small].concat());
+    let stats = path(&dir, "s-#.json");
+    ok(&[&["render", &turntable, "-o", &template, "--frames", "0..3", "--stats", &stats][..], &small].concat());
+    for n in 0..3 {
+        let text = std::fs::read_to_string(dir.path().join(format!("s-{n}.json"))).unwrap();
+        assert!(text.contains(&format!("t-0{n}.exr")), "one statistics file per frame: {text}");
+    }
     let frame = |n: &str| ggx_film::read_exr(&dir.path().join(format!("t-{n}.exr"))).unwrap().2;
     let (f0, f1, f2) = (frame("00"), frame("01"), frame("02"));
     assert!(f0 != f1 && f1 != f2, "the camera moves");

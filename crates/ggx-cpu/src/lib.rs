@@ -92,7 +92,7 @@ impl Renderer {
             // Thread creation failed (resource limits): fall back to a single worker.
             Err(_) => match rayon::ThreadPoolBuilder::new().num_threads(1).use_current_thread().build() {
                 Ok(p) => p,
-                Err(_) => return self.empty_result(kernel),
+                Err(_) => return Ok(Self::empty_result(film, kernel)),
             },
         };
         let (pixels, hook) = (job.pixels(), control.progress);
@@ -126,16 +126,9 @@ impl Renderer {
         })
     }
 
-    fn empty_result(&self, kernel: &'static str) -> Result<RenderResult, RenderError> {
-        let [w, h] = self.data.camera.resolution;
-        Ok(RenderResult {
-            film: ggx_render::new_film(w, h)?,
-            spp: 0,
-            elapsed: Duration::ZERO,
-            camera_samples: 0,
-            rays: 0,
-            interrupted: true,
-            kernel,
-        })
+    /// The result of a render that could not start: `film` as it was, marked interrupted.
+    fn empty_result(film: ggx_film::Film, kernel: &'static str) -> RenderResult {
+        let spp = film.spp();
+        RenderResult { film, spp, elapsed: Duration::ZERO, camera_samples: 0, rays: 0, interrupted: true, kernel }
     }
 }

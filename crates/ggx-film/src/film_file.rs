@@ -38,6 +38,9 @@ pub struct FilmInfo {
     /// The sample range `[start, end)` that was asked for; pixel `i` holds samples
     /// `[start, start + samples_i)` of it.
     pub samples: [u32; 2],
+    /// Samples per pixel of the whole render the range is part of (`ggx merge` reports what
+    /// the parts lack of `[0, total)`).
+    pub total: u32,
     /// The pixel window `[x0, y0, x1, y1)` that was asked for.
     pub window: Window,
     /// The backend that rendered it (`cpu`, `wgpu`): backends differ in the last bits.
@@ -58,6 +61,7 @@ impl FilmInfo {
             ("seed".to_owned(), self.seed.to_string()),
             ("frame".to_owned(), self.frame.to_string()),
             ("samples".to_owned(), format!("{}..{}", self.samples[0], self.samples[1])),
+            ("total".to_owned(), self.total.to_string()),
             ("window".to_owned(), format!("{x0},{y0},{x1},{y1}")),
             ("backend".to_owned(), self.backend.clone()),
             ("version".to_owned(), self.version.clone()),
@@ -98,6 +102,7 @@ impl FilmInfo {
             seed: number("seed")?,
             frame: u32_of("frame")?,
             samples,
+            total: u32_of("total")?,
             window,
             backend: get("backend")?,
             version: get("version")?,
@@ -162,6 +167,35 @@ pub fn write_film(
     })
 }
 
+/// Reads only the header of a film file: its info and `[width, height]` (for checking and
+/// ordering parts before their pixels are read).
+pub fn read_film_info(path: &Path) -> Result<(FilmInfo, [u32; 2]), OutputError> {
+    let invalid = |reason: String| OutputError::NotAFilm { path: path.to_owned(), reason };
+    let meta = exr::meta::MetaData::read_from_file(path, false)
+        .map_err(|source| OutputError::Decode { path: path.to_owned(), source })?;
+    let header = meta.headers.first().ok_or_else(|| invalid("it has no layer".into()))?;
+    let text = text_attributes(&header.own_attributes.other);
+    if text.get("film").map(String::as_str) != Some(FORMAT) {
+        return Err(invalid("it holds no exact film (render with --samples, --crop or --checkpoint)".into()));
+    }
+    let size = header.layer_size;
+    match (u32::try_from(size.width()), u32::try_from(size.height())) {
+        (Ok(w), Ok(h)) => Ok((FilmInfo::parse(&text).map_err(invalid)?, [w, h])),
+        _ => Err(invalid(format!("its size {}x{} is too large", size.width(), size.height()))),
+    }
+}
+
+/// The `ggx.*` text attributes, without the prefix.
+fn text_attributes(other: &HashMap<Text, AttributeValue>) -> HashMap<String, String> {
+    other
+        .iter()
+        .filter_map(|(k, v)| match v {
+            AttributeValue::Text(t) => Some((k.to_string().strip_prefix("ggx.")?.to_owned(), t.to_string())),
+            _ => None,
+        })
+        .collect()
+}
+
 /// Reads a film file written by [`write_film`] with the exact channels: its info and film.
 /// Files larger than `max_pixels` are refused before their pixels are read.
 pub fn read_film(path: &Path, max_pixels: u64) -> Result<(FilmInfo, Film), OutputError> {
@@ -183,15 +217,7 @@ pub fn read_film(path: &Path, max_pixels: u64) -> Result<(FilmInfo, Film), Outpu
         .from_file(path)
         .map_err(|source| OutputError::Decode { path: path.to_owned(), source })?;
     let layer = image.layer_data;
-    let text: HashMap<String, String> = layer
-        .attributes
-        .other
-        .iter()
-        .filter_map(|(k, v)| match v {
-            AttributeValue::Text(t) => Some((k.to_string().strip_prefix("ggx.")?.to_owned(), t.to_string())),
-            _ => None,
-        })
-        .collect();
+    let text = text_attributes(&layer.attributes.other);
     if text.get("film").map(String::as_str) != Some(FORMAT) {
         return Err(invalid("it holds no exact film (render with --samples, --crop or --checkpoint)".into()));
     }
@@ -243,6 +269,7 @@ mod tests {
             seed: 7,
             frame: 3,
             samples: [16, 48],
+            total: 64,
             window: [0, 0, 3, 2],
             backend: "cpu".into(),
             version: "0.1.0".into(),
@@ -266,6 +293,7 @@ mod tests {
         write_film(&path, &info(), &film, true, &OutputOptions::default()).unwrap();
         let (read_info, read) = read_film(&path, 6).unwrap();
         assert_eq!(read_info, info());
+        assert_eq!(read_film_info(&path).unwrap(), (info(), [3, 2]));
         assert_eq!(read, film);
         // The RGB channels are the mean, for any viewer.
         let (w, h, rgb) = crate::read_exr(&path).unwrap();

@@ -31,8 +31,8 @@ fn row_counts(film: &Film, [x0, y0, x1, y1]: Window) -> Result<Vec<(u32, u32)>, 
             let n = row.first().map_or(0, |p| p.samples);
             if row.iter().any(|p| p.samples != n) {
                 return Err(GpuError::Render(RenderError::Job(format!(
-                    "row {y} of the film to continue holds different sample counts (a CPU render stopped mid-pass): \
-                     continue it with --backend cpu"
+                    "row {y} of the film to continue holds different sample counts: the GPU continues only films \
+                     whose window rows are uniform, as its own are (this one was cut mid-pass or merged from uneven parts)"
                 ))));
             }
             Ok((y, n))
