@@ -70,7 +70,7 @@ fn render_tile<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIE
             for s in work.start.saturating_add(held)..work.to {
                 let mut stream = SampleStream::new(sampling.kind, sampling.seed, pixel, s);
                 let jitter = stream.next_2d();
-                let (origin, dir) = scene.camera.generate_ray(Vec2::new(x as f32, y as f32) + jitter);
+                let (origin, dir) = scene.ray_generator.generate_ray(Vec2::new(x as f32, y as f32) + jitter);
                 sum.add(trace::<AREA, ENV, PLASTIC, DIELECTRIC>(scene, origin, dir, &mut stream, &mut counters));
             }
             out.push(sum);

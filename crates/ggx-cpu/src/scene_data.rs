@@ -2,7 +2,9 @@
 
 use crate::accel::{Accel, AccelKind};
 use ggx_render::Bsdf;
-use ggx_scene::{AreaLights, Camera, Environment, LightStrategy, Scene, SceneFeatures, ShadingNormals, Triangle};
+use ggx_scene::{
+    AreaLights, Camera, Environment, LightStrategy, RayGenerator, Scene, SceneFeatures, ShadingNormals, Triangle,
+};
 use glam::Vec3;
 
 /// Immutable per-render scene data shared by all threads.
@@ -23,6 +25,8 @@ pub struct SceneData {
     pub environment: Option<Environment>,
     /// The camera.
     pub camera: Camera,
+    /// The camera's primary rays, its per-camera terms computed once.
+    pub ray_generator: RayGenerator,
     /// Light sampling strategy.
     pub light_strategy: LightStrategy,
     /// Maximum number of bounces.
@@ -51,6 +55,7 @@ impl SceneData {
             lights: scene.lights.clone(),
             environment: scene.environment.clone(),
             camera: scene.camera,
+            ray_generator: scene.camera.ray_generator(),
             light_strategy: scene.integrator.light_strategy,
             max_depth: scene.integrator.max_depth,
             roulette_depth: scene.integrator.russian_roulette,

@@ -6,6 +6,31 @@ use glam::{Vec2, Vec3};
 /// Largest accepted image width or height, in pixels.
 pub const MAX_RESOLUTION: u32 = 16384;
 
+/// [`Camera::generate_ray`] with its per-camera terms computed once: the same arithmetic in the
+/// same order, so the same bits.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RayGenerator {
+    position: Vec3,
+    forward: Vec3,
+    right: Vec3,
+    up: Vec3,
+    size: Vec2,
+    tan_half_fov: f32,
+    aspect: f32,
+}
+
+impl RayGenerator {
+    /// Pinhole model: `d = normalize(forward + x_ndc * tan(fov/2) * aspect * right +
+    /// y_ndc * tan(fov/2) * up)` with `x_ndc = 2 px / w - 1`, `y_ndc = 1 - 2 py / h`.
+    #[inline]
+    pub fn generate_ray(&self, pixel: Vec2) -> (Vec3, Vec3) {
+        let t = self.tan_half_fov;
+        let x = (2.0 * pixel.x / self.size.x - 1.0) * t * self.aspect;
+        let y = (1.0 - 2.0 * pixel.y / self.size.y) * t;
+        (self.position, (self.forward + x * self.right + y * self.up).normalize())
+    }
+}
+
 /// A validated pinhole camera with an orthonormal right-handed basis.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
@@ -46,16 +71,23 @@ impl Camera {
 
     /// Primary ray through the continuous image position `pixel`: `(0, 0)` is the top-left
     /// corner of the image, `(width, height)` the bottom-right; pixel `(i, j)` covers
-    /// `[i, i+1) x [j, j+1)`. Returns `(origin, unit direction)`.
-    ///
-    /// Pinhole model: `d = normalize(forward + x_ndc * tan(fov/2) * aspect * right +
-    /// y_ndc * tan(fov/2) * up)` with `x_ndc = 2 px / w - 1`, `y_ndc = 1 - 2 py / h`.
+    /// `[i, i+1) x [j, j+1)`. Returns `(origin, unit direction)`; see [`RayGenerator`], which
+    /// renderers keep to skip the per-ray `tan`.
     pub fn generate_ray(&self, pixel: Vec2) -> (Vec3, Vec3) {
-        let [w, h] = self.resolution.map(|r| r as f32);
-        let t = self.tan_half_fov();
-        let x = (2.0 * pixel.x / w - 1.0) * t * self.aspect();
-        let y = (1.0 - 2.0 * pixel.y / h) * t;
-        (self.position, (self.forward + x * self.right + y * self.up).normalize())
+        self.ray_generator().generate_ray(pixel)
+    }
+
+    /// The camera with `tan(fov/2)`, the aspect ratio and the image size computed once.
+    pub fn ray_generator(&self) -> RayGenerator {
+        RayGenerator {
+            position: self.position,
+            forward: self.forward,
+            right: self.right,
+            up: self.up,
+            size: Vec2::new(self.resolution[0] as f32, self.resolution[1] as f32),
+            tan_half_fov: self.tan_half_fov(),
+            aspect: self.aspect(),
+        }
     }
 }
 

@@ -40,7 +40,7 @@ mod toml_error;
 
 use std::path::Path;
 
-pub use camera::{Camera, CameraPose, MAX_RESOLUTION};
+pub use camera::{Camera, CameraPose, MAX_RESOLUTION, RayGenerator};
 pub use camera_path::{CameraKey, CameraPath, DEFAULT_FPS, FrameError, Interpolation, MAX_FPS, MAX_FRAMES};
 pub use distribution::{Distribution1D, Distribution2D};
 pub use environment::{
