@@ -17,6 +17,8 @@
 //! * `farm --selftest | --manifests | --scenario`: distributed rendering on a one-node Slurm
 //!   cluster started (and stopped) by xtask, Slurm and munge installed with apt-get where
 //!   missing; the Kubernetes manifests checked against vendored schemas (see [`farm`]).
+//! * `peer [--quick] [...]`: ggx beside Mitsuba 3 on the same scenes in one run (installs
+//!   LLVM 19 and a venv with Mitsuba where missing; not part of `ci`; see [`peer`]).
 //! * `tables [--check]`: regenerates ggx-core's energy-compensation tables (see [`tables`] and
 //!   [`tables_dielectric`]).
 
@@ -24,6 +26,7 @@ mod bench;
 mod diff;
 mod farm;
 mod fuzz;
+mod peer;
 mod render;
 mod stress;
 mod system;
@@ -57,6 +60,13 @@ const USAGE: &str = "usage: cargo xtask <command>
                                  the same scenario with the real ggx: split a render across array tasks,
                                  merge, cancel and resubmit a task, compare bit for bit with one render
   farm --manifests               check scripts/k8s/*.yaml against the vendored Kubernetes JSON schemas
+  peer [--quick] [--scenes a,b] [--width W] [--max-spp N] [--ref-spp N] [--single-max-spp N]
+                                 ggx beside Mitsuba 3 on scenes/peer/*.toml in one run: installs libllvm19
+                                 (apt-get) and a venv with pinned mitsuba/drjit (pip) where missing, exports
+                                 each scene with `ggx export --format mitsuba`, renders both at the same thread
+                                 counts against their own cached references; samples/s, relMSE at equal time,
+                                 efficiency, converged agreement, GGX micro-benchmark; summary.md, CSV and
+                                 plots under target/xtask/peer/ (not part of ci: large download; see --help)
   tables [--check]               regenerate ggx-core's energy-compensation tables from ggx-core's own code in f64:
                                  the conductor's E(mu, alpha), E_avg(alpha) (crates/ggx-core/src/energy_tables.rs),
                                  the dielectric's E_T(mu, alpha, eta') and the plastic coat's E_R, E_R_avg
@@ -76,6 +86,7 @@ fn main() -> ExitCode {
         Some("bench") => bench::run(&args[1..]),
         Some("fuzz") => fuzz::run(&args[1..]),
         Some("farm") => farm::run(&args[1..]),
+        Some("peer") => peer::run(&args[1..]),
         Some("tables") => tables::run(&args[1..]),
         Some("stress") => match stress::Options::parse(&args[1..]) {
             Ok(options) => stress::run(&options),

@@ -456,8 +456,21 @@ mod tests {
         assert_eq!((e.format, e.mesh_format, e.env_upsample), (ExportFormat::Mitsuba, MeshFormatArg::Ply, 2));
         assert_eq!((e.spp, e.width, e.energy_compensation), (None, None, None));
         let cli = Cli::try_parse_from([
-            "ggx", "export", "s.toml", "-o", "s.xml", "--mesh-format", "obj", "--env-upsample", "4", "--spp", "8",
-            "--width", "64", "--energy-compensation", "off",
+            "ggx",
+            "export",
+            "s.toml",
+            "-o",
+            "s.xml",
+            "--mesh-format",
+            "obj",
+            "--env-upsample",
+            "4",
+            "--spp",
+            "8",
+            "--width",
+            "64",
+            "--energy-compensation",
+            "off",
         ])
         .unwrap();
         let Command::Export(e) = cli.command else { unreachable!("parsed an export command") };

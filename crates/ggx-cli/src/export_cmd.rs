@@ -37,7 +37,10 @@ pub fn run(args: &ExportArgs) -> Result<Outcome> {
     if let Some(on) = args.energy_compensation {
         scene.set_energy_compensation(on == OnOff::On);
     }
-    let ExportFormat::Mitsuba = args.format;
+    // One format so far; a new one is a compile error here until it is handled.
+    match args.format {
+        ExportFormat::Mitsuba => {}
+    }
     let stem = args.output.file_stem().map_or_else(|| "scene".to_owned(), |s| mitsuba::file_safe(&s.to_string_lossy()));
     let options = ExportOptions {
         stem,
@@ -50,7 +53,11 @@ pub fn run(args: &ExportArgs) -> Result<Outcome> {
     };
     let export = mitsuba::export(&scene, &options)?;
 
-    let dir = args.output.parent().filter(|p| !p.as_os_str().is_empty()).map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+    let dir = args
+        .output
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
     let mut inputs: Vec<&Path> = scene.inputs.iter().map(PathBuf::as_path).collect();
     inputs.push(&args.scene);
     let paths: Vec<PathBuf> = export.files.iter().map(|f| dir.join(&f.name)).collect();

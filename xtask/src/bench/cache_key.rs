@@ -78,7 +78,7 @@ pub fn renderer_sources_hash(root: &Path) -> Result<u64, String> {
 }
 
 /// Every file under `dir`, recursively (an iterative walk: no recursion depth to run out of).
-fn collect_files(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), String> {
+pub(crate) fn collect_files(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), String> {
     let mut pending = vec![dir.to_path_buf()];
     while let Some(dir) = pending.pop() {
         let entries = std::fs::read_dir(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;

@@ -6,7 +6,7 @@ use super::ladder::Series;
 pub const HEADER: &str = "scene,config,axis,backend,spp,seconds,rmse,rel_mse,rel_mse_trimmed,camera_samples,rays";
 
 /// A field, quoted when it holds a comma, a quote or a line break.
-fn field(s: &str) -> String {
+pub(crate) fn field(s: &str) -> String {
     if s.contains([',', '"', '\n', '\r']) { format!("\"{}\"", s.replace('"', "\"\"")) } else { s.to_string() }
 }
 

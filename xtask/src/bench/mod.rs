@@ -23,19 +23,19 @@
 //! error, not a silent skip (`--no-wgpu` leaves it out, and the summary says so).
 
 mod analysis;
-mod cache_key;
-mod checks;
+pub(crate) mod cache_key;
+pub(crate) mod checks;
 mod comparison;
 mod configs;
-mod csv;
-mod files;
+pub(crate) mod csv;
+pub(crate) mod files;
 mod fireflies;
-mod interp;
-mod ladder;
+pub(crate) mod interp;
+pub(crate) mod ladder;
 mod options;
-mod plots;
-mod reference;
-mod robust;
+pub(crate) mod plots;
+pub(crate) mod reference;
+pub(crate) mod robust;
 mod summary;
 
 use crate::render::{self, Backend, Overrides};
@@ -136,7 +136,7 @@ fn report(out: &Path, summary: &Path, checks: &[checks::Check], seconds: f64) ->
 }
 
 /// The CPU model from `/proc/cpuinfo`, else the architecture.
-fn cpu_model() -> String {
+pub(crate) fn cpu_model() -> String {
     let model = std::fs::read_to_string("/proc/cpuinfo").ok().and_then(|info| {
         info.lines()
             .find(|l| l.starts_with("model name"))

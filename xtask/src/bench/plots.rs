@@ -31,7 +31,7 @@ const COLORS: [RGBColor; 10] = [
 /// How a line is drawn: lines whose data can coincide with the baseline's (same images on
 /// another backend or kernel) are dashed with open or cross markers, so that both stay visible.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Style {
+pub(crate) enum Style {
     /// Solid line, filled dots.
     Solid,
     /// Dashed line, rings.
@@ -41,10 +41,13 @@ enum Style {
 }
 
 /// One line of a plot.
-struct Line {
-    name: String,
-    style: Style,
-    points: Vec<(f64, f64)>,
+pub(crate) struct Line {
+    /// Legend text.
+    pub(crate) name: String,
+    /// How it is drawn.
+    pub(crate) style: Style,
+    /// `(x, relMSE)` points.
+    pub(crate) points: Vec<(f64, f64)>,
 }
 
 impl Line {
@@ -111,7 +114,7 @@ fn tick(v: f64) -> String {
 
 /// The SVG of one log-log plot; `x_base` spaces the x axis's major ticks (10: decades, 2: the
 /// spp ladder's powers of two).
-fn plot(title: &str, x_desc: &str, x_base: f64, lines: &[Line]) -> Result<String, String> {
+pub(crate) fn plot(title: &str, x_desc: &str, x_base: f64, lines: &[Line]) -> Result<String, String> {
     let err = |e: &dyn std::fmt::Display| format!("plot `{title}`: {e}");
     let points = || lines.iter().flat_map(|l| l.points.iter().copied());
     let (x0, x1) = log_bounds(points().map(|p| p.0)).ok_or_else(|| err(&"no positive x values"))?;

@@ -65,7 +65,7 @@ pub fn load_or_render(scene_path: &Path, scene: &Scene, spp: u32, cache_dir: &Pa
 
 /// Removes `<prefix>*.exr` files in `dir` other than `keep`: references of an older version of
 /// the scene (best effort).
-fn remove_stale(dir: &Path, prefix: &str, keep: &Path) {
+pub(crate) fn remove_stale(dir: &Path, prefix: &str, keep: &Path) {
     let Ok(entries) = std::fs::read_dir(dir) else { return };
     for path in entries.filter_map(|e| e.ok().map(|e| e.path())) {
         let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();

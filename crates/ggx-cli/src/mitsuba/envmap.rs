@@ -130,7 +130,8 @@ mod tests {
             let t = to_world(m.rotation);
             for j in (1..mh - 1).filter(|j| j % k != 0) {
                 for c in 0..mw {
-                    let local = mitsuba_direction((f64::from(c) + 0.5) / f64::from(mw), f64::from(j) / f64::from(mh - 1));
+                    let local =
+                        mitsuba_direction((f64::from(c) + 0.5) / f64::from(mw), f64::from(j) / f64::from(mh - 1));
                     let world = [0, 1, 2].map(|r| (0..3).map(|i| t[r][i] * local[i]).sum::<f64>() as f32);
                     let ggx = m.radiance(Vec3::from(world));
                     assert_eq!(px[(j * mw + c) as usize], ggx, "rotation {rotation_deg}: grid point ({c}, {j})");

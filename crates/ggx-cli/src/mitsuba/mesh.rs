@@ -208,9 +208,10 @@ mod tests {
     fn groups_by_material_and_smoothness() {
         let s = scene(TWO_SHAPES);
         let g = groups(&s);
+        let (w, m) = (s.material_index("w").unwrap(), s.material_index("m").unwrap());
         assert_eq!(g.len(), 2);
-        assert_eq!((g[0].material, g[0].smooth, g[0].triangles.len()), (0, false, 2 + 12));
-        assert_eq!((g[1].material, g[1].smooth, g[1].triangles.len()), (1, true, 80));
+        assert_eq!((g[0].material, g[0].smooth, g[0].triangles.len()), (w, false, 2 + 12));
+        assert_eq!((g[1].material, g[1].smooth, g[1].triangles.len()), (m, true, 80));
         let total: usize = g.iter().map(|g| g.triangles.len()).sum();
         assert_eq!(total, s.mesh.triangles.len());
     }
@@ -275,6 +276,9 @@ mod tests {
         // Vertex 2's z, after its x and y.
         assert_eq!(f32::from_le_bytes(ply[at + 48 + 8..at + 48 + 12].try_into().unwrap()), 0.1);
         let obj = to_obj(&mesh, "m");
-        assert!(obj.contains("v 0 1 0.1\n") && obj.contains("vn 0 0 1\n") && obj.contains("f 1//1 2//2 3//3\n"), "{obj}");
+        assert!(
+            obj.contains("v 0 1 0.1\n") && obj.contains("vn 0 0 1\n") && obj.contains("f 1//1 2//2 3//3\n"),
+            "{obj}"
+        );
     }
 }

@@ -101,8 +101,11 @@ pub struct Export {
 /// `name` with every character outside `[A-Za-z0-9_-]` replaced by `_` (at most 40 kept), for
 /// file names derived from material names.
 pub fn file_safe(name: &str) -> String {
-    let s: String =
-        name.chars().take(40).map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' }).collect();
+    let s: String = name
+        .chars()
+        .take(40)
+        .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' })
+        .collect();
     if s.is_empty() { "material".to_owned() } else { s }
 }
 
@@ -152,7 +155,8 @@ pub fn export(scene: &Scene, options: &ExportOptions) -> Result<Export, NoTwin> 
         let uv = m.is_anisotropic();
         let group = mesh::Group { smooth, ..g.clone() };
         let indexed = mesh::build(scene, &group, uv);
-        let name = format!("{}-{n}-{}.{}", options.stem, file_safe(&name_of(g.material)), options.mesh_format.extension());
+        let name =
+            format!("{}-{n}-{}.{}", options.stem, file_safe(&name_of(g.material)), options.mesh_format.extension());
         let comment = format!("ggx export: material {} ({} triangles)", name_of(g.material), g.triangles.len());
         let bytes = match options.mesh_format {
             MeshFormat::Ply => mesh::to_ply(&indexed, &comment),
@@ -268,12 +272,7 @@ mod tests {
     }
 
     fn options() -> ExportOptions {
-        ExportOptions {
-            stem: "s".into(),
-            mesh_format: MeshFormat::Ply,
-            env_upsample: 2,
-            source: "t.toml".into(),
-        }
+        ExportOptions { stem: "s".into(), mesh_format: MeshFormat::Ply, env_upsample: 2, source: "t.toml".into() }
     }
 
     const SCENE: &str = "[camera]\nposition = [0, 2, 7]\nlook_at = [0, 0.5, 0]\nfov_y = 40\nresolution = [64, 32]\n\
@@ -342,10 +341,17 @@ mod tests {
     #[test]
     fn constant_environment_and_roulette() {
         let text = SCENE
-            .replace("type = \"procedural\"\npreset = \"sky\"\nresolution = [32, 16]\nrotation = 30", "type = \"constant\"\nradiance = [0.15, 0.17, 0.2]")
+            .replace(
+                "type = \"procedural\"\npreset = \"sky\"\nresolution = [32, 16]\nrotation = 30",
+                "type = \"constant\"\nradiance = [0.15, 0.17, 0.2]",
+            )
             .replace("russian_roulette = 0", "russian_roulette = 3");
         let e = export(&scene(&text), &ExportOptions { mesh_format: MeshFormat::Obj, ..options() }).unwrap();
-        assert!(e.xml.contains("<emitter type=\"constant\">") && e.xml.contains("value=\"0.15, 0.17, 0.2\""), "{}", e.xml);
+        assert!(
+            e.xml.contains("<emitter type=\"constant\">") && e.xml.contains("value=\"0.15, 0.17, 0.2\""),
+            "{}",
+            e.xml
+        );
         assert!(e.xml.contains("name=\"rr_depth\" value=\"3\"") && e.xml.contains("<shape type=\"obj\">"), "{}", e.xml);
         assert_eq!(e.files.len(), 3);
         assert!(e.files.iter().all(|f| f.name.ends_with(".obj")));
