@@ -289,22 +289,7 @@ impl Job<'_> {
             accel::format_build_time(renderer.build_time())
         );
         self.announce(&where_);
-        let progress = self.progress(bar, &film);
-        let on_progress = |p: Progress| {
-            if p.pass_end {
-                self.passes.record(&p);
-            }
-            progress.update(&p);
-        };
-        let on_pass = |film: &Film| self.checkpoint.on_pass(film);
-        let control = RenderControl {
-            cancel: Some(self.interrupt.cancel_flag()),
-            progress: Some(&on_progress),
-            pass_film: Some(&on_pass),
-        };
-        let result = renderer.render_film(&self.options, &control, film);
-        progress.finish();
-        Ok(result?)
+        self.run(bar, film, |control, film| Ok(renderer.render_film(&self.options, control, film)?))
     }
 
     /// Uploads the scene and renders on the GPU.
@@ -312,6 +297,17 @@ impl Job<'_> {
         self.checkpoint.set_backend(format!("wgpu {}", ctx.describe()));
         let renderer = WgpuRenderer::new(self.scene, ctx)?;
         self.announce(&format!("{}, BVH2", ctx.adapter_info().name));
+        self.run(bar, film, |control, film| Ok(renderer.render_film(&self.options, control, film)?))
+    }
+
+    /// Runs `render` with the progress display, the pass log, the checkpoints and the cancel
+    /// flag hooked in.
+    fn run(
+        &self,
+        bar: ProgressBar,
+        film: Film,
+        render: impl FnOnce(&RenderControl<'_>, Film) -> Result<RenderResult>,
+    ) -> Result<RenderResult> {
         let progress = self.progress(bar, &film);
         let on_progress = |p: Progress| {
             if p.pass_end {
@@ -325,9 +321,9 @@ impl Job<'_> {
             progress: Some(&on_progress),
             pass_film: Some(&on_pass),
         };
-        let result = renderer.render_film(&self.options, &control, film);
+        let result = render(&control, film);
         progress.finish();
-        Ok(result?)
+        result
     }
 
     /// The line that says what is rendered where.

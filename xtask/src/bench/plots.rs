@@ -85,17 +85,24 @@ where
 /// Writes `<scene>-relmse-vs-time.svg` and `<scene>-relmse-vs-spp.svg` into `dir`.
 pub fn write(dir: &Path, scene: &str, series: &[Series]) -> Result<Vec<PathBuf>, String> {
     let lines = |x: &dyn Fn(&Rung) -> f64| -> Vec<Line> { series.iter().map(|s| Line::of(s, x)).collect() };
+    let titles = [format!("{scene}: relMSE vs render time"), format!("{scene}: relMSE vs samples per pixel")];
+    write_pair(dir, scene, &titles, "render time (s)", &lines(&|r| r.seconds), &lines(&|r| f64::from(r.spp)))
+}
+
+/// Writes the pair of plots of a scene, `<scene>-relmse-vs-time.svg` (x: `time_desc`, lines
+/// `by_time`) and `<scene>-relmse-vs-spp.svg` (lines `by_spp`), titled `titles`.
+pub(crate) fn write_pair(
+    dir: &Path,
+    scene: &str,
+    titles: &[String; 2],
+    time_desc: &str,
+    by_time: &[Line],
+    by_spp: &[Line],
+) -> Result<Vec<PathBuf>, String> {
     let time = dir.join(format!("{scene}-relmse-vs-time.svg"));
     let spp = dir.join(format!("{scene}-relmse-vs-spp.svg"));
-    let svg = plot(&format!("{scene}: relMSE vs render time"), "render time (s)", 10.0, &lines(&|r| r.seconds))?;
-    write_atomic(&time, svg.as_bytes())?;
-    let svg = plot(
-        &format!("{scene}: relMSE vs samples per pixel"),
-        "samples per pixel",
-        2.0,
-        &lines(&|r| f64::from(r.spp)),
-    )?;
-    write_atomic(&spp, svg.as_bytes())?;
+    write_atomic(&time, plot(&titles[0], time_desc, 10.0, by_time)?.as_bytes())?;
+    write_atomic(&spp, plot(&titles[1], "samples per pixel", 2.0, by_spp)?.as_bytes())?;
     Ok(vec![time, spp])
 }
 

@@ -9,7 +9,7 @@ use image::ImageEncoder as _;
 use super::metrics::Rung;
 use super::series::{Renderer, Series};
 use crate::bench::files::write_atomic;
-use crate::bench::plots::{Line, Style, plot};
+use crate::bench::plots::{Line, Style};
 
 /// How a renderer's lines are drawn: ggx solid, Mitsuba's LLVM variant dashed with rings,
 /// its scalar variant dashed with crosses.
@@ -33,23 +33,12 @@ pub fn plots(dir: &Path, scene: &str, series: &[Series]) -> Result<Vec<PathBuf>,
             })
             .collect()
     };
-    let time = dir.join(format!("{scene}-relmse-vs-time.svg"));
-    let spp = dir.join(format!("{scene}-relmse-vs-spp.svg"));
-    let svg = plot(
-        &format!("{scene}: relMSE vs render time, ggx and Mitsuba 3"),
-        "render time without JIT (s)",
-        10.0,
-        &lines(&|r| r.steady_seconds()),
-    )?;
-    write_atomic(&time, svg.as_bytes())?;
-    let svg = plot(
-        &format!("{scene}: relMSE vs spp, ggx and Mitsuba 3"),
-        "samples per pixel",
-        2.0,
-        &lines(&|r| f64::from(r.spp)),
-    )?;
-    write_atomic(&spp, svg.as_bytes())?;
-    Ok(vec![time, spp])
+    let titles = [
+        format!("{scene}: relMSE vs render time, ggx and Mitsuba 3"),
+        format!("{scene}: relMSE vs spp, ggx and Mitsuba 3"),
+    ];
+    let (by_time, by_spp) = (lines(&|r| r.steady_seconds()), lines(&|r| f64::from(r.spp)));
+    crate::bench::plots::write_pair(dir, scene, &titles, "render time without JIT (s)", &by_time, &by_spp)
 }
 
 /// The images side by side, left to right, with a 4-pixel black gap, tone-mapped as `ggx
