@@ -1,5 +1,5 @@
 //! `cargo xtask fuzz [--cases N]`: the mutation tests of every reader of user files (scene
-//! TOML, OBJ, HDR, EXR) and ggx-core's any-f32 contract, with a long budget.
+//! TOML, OBJ, HDR, EXR, film files) and ggx-core's any-f32 contract, with a long budget.
 //!
 //! The same tests run in `cargo xtask ci` (through `cargo test`) with a small default budget;
 //! here `GGX_FUZZ_CASES` raises it, and the release profile makes the
@@ -12,7 +12,8 @@ use std::time::Instant;
 const DEFAULT_CASES: u32 = 20_000;
 
 /// The test targets: (package, test file).
-const TARGETS: [(&str, &str); 3] = [("ggx-scene", "fuzz"), ("ggx-scene", "readers_fuzz"), ("ggx-core", "contract")];
+const TARGETS: [(&str, &str); 4] =
+    [("ggx-scene", "fuzz"), ("ggx-scene", "readers_fuzz"), ("ggx-film", "film_fuzz"), ("ggx-core", "contract")];
 
 /// Parses `[--cases N]` and runs every target with that budget.
 pub fn run(args: &[String]) -> Result<(), String> {

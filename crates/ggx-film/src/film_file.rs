@@ -23,6 +23,10 @@ use crate::{Film, OutputError, OutputOptions, Window};
 /// Value of the `ggx.film` attribute: the version of this layout.
 const FORMAT: &str = "1";
 
+/// Channels of a film file: `R`, `G`, `B`, four words for each of the three sums, the sample
+/// and the invalid counts.
+const CHANNELS: usize = 3 + 12 + 2;
+
 /// What a film file says about the render that made it: what must agree for two films to be
 /// merged, and figures for people ([`FilmInfo::stats`]).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -203,10 +207,22 @@ pub fn read_film(path: &Path, max_pixels: u64) -> Result<(FilmInfo, Film), Outpu
     let meta = exr::meta::MetaData::read_from_file(path, false)
         .map_err(|source| OutputError::Decode { path: path.to_owned(), source })?;
     let header = meta.headers.first().ok_or_else(|| invalid("it has no layer".into()))?;
+    if meta.headers.len() != 1 || header.deep {
+        return Err(invalid("a film file has exactly one flat layer".into()));
+    }
     let size = header.layer_size;
     let (w, h) = (size.width() as u64, size.height() as u64);
     if w.saturating_mul(h) > max_pixels {
         return Err(invalid(format!("its {w}x{h} pixels exceed the limit of {max_pixels}")));
+    }
+    // What is read is allocated per channel and pixel: only the channels a film has, each
+    // once, so memory is bounded by the pixel count checked above.
+    let channels = &header.channels.list;
+    if channels.len() != CHANNELS {
+        return Err(invalid(format!("it has {} channels, a film has {CHANNELS}", channels.len())));
+    }
+    if let Some(c) = channels.iter().find(|c| c.sampling.x() != 1 || c.sampling.y() != 1) {
+        return Err(invalid(format!("channel {} is subsampled", c.name)));
     }
     let image = read()
         .no_deep_data()
