@@ -207,6 +207,9 @@ pub fn read_film(path: &Path, max_pixels: u64) -> Result<(FilmInfo, Film), Outpu
     let meta = exr::meta::MetaData::read_from_file(path, false)
         .map_err(|source| OutputError::Decode { path: path.to_owned(), source })?;
     let header = meta.headers.first().ok_or_else(|| invalid("it has no layer".into()))?;
+    if text_attributes(&header.own_attributes.other).get("film").map(String::as_str) != Some(FORMAT) {
+        return Err(invalid("it holds no exact film (render with --samples, --crop or --checkpoint)".into()));
+    }
     if meta.headers.len() != 1 || header.deep {
         return Err(invalid("a film file has exactly one flat layer".into()));
     }
