@@ -139,6 +139,12 @@ mod tests {
         let mut daemon = Daemon::spawn("sleep", command, &log).unwrap();
         let pid = daemon.pid();
         daemon.check().unwrap();
+        // Under load the shell may not have written its line yet: wait for it (not a timing
+        // assertion: the deadline only bounds a hang).
+        let deadline = Instant::now() + Duration::from_secs(30);
+        while tail(&log, 5).is_empty() && Instant::now() < deadline {
+            std::thread::sleep(Duration::from_millis(10));
+        }
         drop(daemon);
         assert!(process_name(pid).is_none(), "the process is gone, not a zombie");
         assert_eq!(tail(&log, 5), "started");
