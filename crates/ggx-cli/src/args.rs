@@ -142,13 +142,9 @@ pub struct RenderArgs {
     #[arg(long, value_name = "S", value_parser = clap::value_parser!(u64).range(0..=MAX_SEED))]
     pub seed: Option<u64>,
 
-    /// Image width; alone, the height follows the scene's aspect ratio.
-    #[arg(long, value_name = "W", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_RESOLUTION)))]
-    pub width: Option<u32>,
-
-    /// Image height; alone, the width follows the scene's aspect ratio.
-    #[arg(long, value_name = "H", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_RESOLUTION)))]
-    pub height: Option<u32>,
+    /// The image size.
+    #[command(flatten)]
+    pub size: SizeArgs,
 
     /// Worker threads; 0 uses every core.
     #[arg(long, value_name = "N", default_value_t = 0, value_parser = clap::value_parser!(u16).range(0..=MAX_THREADS))]
@@ -191,6 +187,18 @@ pub struct RenderArgs {
     /// Limits on what is read and allocated.
     #[command(flatten, next_help_heading = "Limits")]
     pub limits: LimitArgs,
+}
+
+/// `--width` and `--height`, shared by `ggx render` and `ggx export`.
+#[derive(Debug, Args)]
+pub struct SizeArgs {
+    /// Image width; alone, the height follows the scene's aspect ratio.
+    #[arg(long, value_name = "W", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_RESOLUTION)))]
+    pub width: Option<u32>,
+
+    /// Image height; alone, the width follows the scene's aspect ratio.
+    #[arg(long, value_name = "H", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_RESOLUTION)))]
+    pub height: Option<u32>,
 }
 
 /// `ggx info`.
@@ -265,13 +273,9 @@ pub struct ExportArgs {
     #[arg(long, value_name = "S", value_parser = clap::value_parser!(u64).range(0..=MAX_SEED))]
     pub seed: Option<u64>,
 
-    /// Image width; alone, the height follows the scene's aspect ratio.
-    #[arg(long, value_name = "W", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_RESOLUTION)))]
-    pub width: Option<u32>,
-
-    /// Image height; alone, the width follows the scene's aspect ratio.
-    #[arg(long, value_name = "H", value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_RESOLUTION)))]
-    pub height: Option<u32>,
+    /// The image size.
+    #[command(flatten)]
+    pub size: SizeArgs,
 
     /// The frame of an animated camera ([[camera.keys]]) to export [default: 0].
     #[arg(long, value_name = "N")]
@@ -454,7 +458,7 @@ mod tests {
         let cli = Cli::try_parse_from(["ggx", "export", "s.toml", "--format", "mitsuba", "-o", "s.xml"]).unwrap();
         let Command::Export(e) = cli.command else { unreachable!("parsed an export command") };
         assert_eq!((e.format, e.mesh_format, e.env_upsample), (ExportFormat::Mitsuba, MeshFormatArg::Ply, 2));
-        assert_eq!((e.spp, e.width, e.energy_compensation), (None, None, None));
+        assert_eq!((e.spp, e.size.width, e.energy_compensation), (None, None, None));
         let cli = Cli::try_parse_from([
             "ggx",
             "export",
@@ -474,7 +478,7 @@ mod tests {
         ])
         .unwrap();
         let Command::Export(e) = cli.command else { unreachable!("parsed an export command") };
-        assert_eq!((e.mesh_format, e.env_upsample, e.spp, e.width), (MeshFormatArg::Obj, 4, Some(8), Some(64)));
+        assert_eq!((e.mesh_format, e.env_upsample, e.spp, e.size.width), (MeshFormatArg::Obj, 4, Some(8), Some(64)));
         assert_eq!(e.energy_compensation, Some(OnOff::Off));
         for bad in [&["--format", "pbrt"][..], &["--env-upsample", "0"], &["--env-upsample", "9"], &["--spp", "0"]] {
             let args = [&["ggx", "export", "s.toml", "-o", "s.xml"][..], bad].concat();

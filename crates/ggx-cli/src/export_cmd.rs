@@ -33,7 +33,7 @@ pub fn run(args: &ExportArgs) -> Result<Outcome> {
     if let Some(seed) = args.seed {
         scene.integrator.seed = seed;
     }
-    scene.camera.resolution = overrides::resolution(scene.camera.resolution, args.width, args.height)?;
+    scene.camera.resolution = overrides::resolution(scene.camera.resolution, args.size.width, args.size.height)?;
     if let Some(on) = args.energy_compensation {
         scene.set_energy_compensation(on == OnOff::On);
     }

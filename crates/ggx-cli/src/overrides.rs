@@ -18,7 +18,7 @@ pub fn apply(scene: &mut Scene, args: &RenderArgs) -> Result<()> {
     if let Some(seed) = args.seed {
         scene.integrator.seed = seed;
     }
-    scene.camera.resolution = resolution(scene.camera.resolution, args.width, args.height)?;
+    scene.camera.resolution = resolution(scene.camera.resolution, args.size.width, args.size.height)?;
     if let Some(on) = args.energy_compensation {
         scene.set_energy_compensation(on == OnOff::On);
     }
