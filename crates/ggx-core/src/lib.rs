@@ -24,6 +24,9 @@
 //!   it loses no energy from either side; tables in [`energy_dielectric`] and
 //!   [`energy_dielectric_tables`], which also hold the plastic coat's albedo and the base
 //!   weight [`energy_dielectric::plastic_base_weight`].
+//! * [`GltfMetalRough`]: the glTF 2.0 metallic-roughness BRDF (spec Appendix B, with
+//!   `KHR_materials_specular` and `KHR_materials_ior`) composed from the conductor's specular
+//!   lobe, Schlick's Fresnel term and a Lambertian base, sampled as a one-sample MIS mixture.
 //! * [`Bxdf`]: the one BSDF interface both implement (static dispatch), with [`BxdfFlags`].
 //! * [`mis`]: balance and power heuristics that survive infinite and zero densities.
 //! * [`Frame`]: the branchless orthonormal basis of Duff et al. 2017.
@@ -62,6 +65,7 @@ pub mod energy_tables;
 mod frame;
 pub mod fresnel;
 pub mod math;
+pub mod metal_rough;
 pub mod mis;
 mod sample_bounded;
 mod sample_ndf;
@@ -81,6 +85,7 @@ pub use dielectric_ms::GgxDielectricMs;
 pub use distribution::TrowbridgeReitz;
 pub use frame::{Frame, reflect};
 pub use fresnel::{Fresnel, FresnelParams};
+pub use metal_rough::GltfMetalRough;
 pub use sampling::Sampling;
 pub use sequence::{CounterRng, SampleStream, SequenceKind};
 pub use thin_dielectric::ThinDielectric;

@@ -1075,6 +1075,35 @@ mod tests {
         );
     }
 
+    /// `GltfMetalRough` in ggx_core.wgsl has the Rust struct's size and member offsets (its
+    /// `[f32; 3]` fields are `vec3<f32>` with the next `f32` in the fourth lane), and the
+    /// parity rows' packing of it into a conductor (parity.wgsl `metal_rough`) loses nothing.
+    #[test]
+    fn gltf_metal_rough_layout_and_packing() {
+        use ggx_core::GltfMetalRough;
+        let module = naga::front::wgsl::parse_str(crate::GGX_CORE_WGSL).expect("ggx_core.wgsl parses");
+        let ty = module.types.iter().find(|(_, t)| t.name.as_deref() == Some("GltfMetalRough")).expect("struct").1;
+        let naga::TypeInner::Struct { members, span } = &ty.inner else { panic!("GltfMetalRough is a struct") };
+        let wgsl: Vec<(String, u32)> = members.iter().map(|m| (m.name.clone().unwrap(), m.offset)).collect();
+        let rust = [
+            ("base_color", std::mem::offset_of!(GltfMetalRough, base_color)),
+            ("metallic", std::mem::offset_of!(GltfMetalRough, metallic)),
+            ("f0", std::mem::offset_of!(GltfMetalRough, f0)),
+            ("specular_weight", std::mem::offset_of!(GltfMetalRough, specular_weight)),
+            ("distribution", std::mem::offset_of!(GltfMetalRough, distribution)),
+            ("p_specular", std::mem::offset_of!(GltfMetalRough, p_specular)),
+            ("pad", std::mem::offset_of!(GltfMetalRough, pad)),
+        ]
+        .map(|(n, o)| (n.to_string(), o as u32));
+        assert_eq!(wgsl, rust);
+        assert_eq!(*span as usize, size_of::<GltfMetalRough>());
+        assert_eq!(size_of::<GltfMetalRough>(), 48);
+        for m in cases::metal_roughs() {
+            let back = cases::unpack_metal_rough(&cases::pack_metal_rough(&m));
+            assert_eq!(bytemuck::bytes_of(&back), bytemuck::bytes_of(&m));
+        }
+    }
+
     #[test]
     fn ulp_distance_and_bounds() {
         assert_eq!(ulp_distance(1.0, 1.0), 0);

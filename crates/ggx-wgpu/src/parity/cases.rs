@@ -3,10 +3,11 @@
 
 use bytemuck::{Pod, Zeroable};
 use ggx_core::fresnel::{FresnelParams, fresnel_complex, fresnel_dielectric, fresnel_schlick};
+use ggx_core::metal_rough::{clamp_ior, dielectric_f0};
 use ggx_core::sequence::{self as seq, CounterRng, SampleStream, SequenceKind};
 use ggx_core::{
-    BsdfSample, Frame, Fresnel, GgxConductor, GgxDielectric, Sampling, TransportMode, TrowbridgeReitz, alpha,
-    clamp_eta, math, mis, reflect, refract, warp,
+    BsdfSample, Frame, Fresnel, GgxConductor, GgxDielectric, GltfMetalRough, Sampling, TransportMode, TrowbridgeReitz,
+    alpha, clamp_eta, math, mis, reflect, refract, warp,
 };
 use glam::{Vec2, Vec3};
 
@@ -579,6 +580,136 @@ const U_LOBES: [f32; 11] = [0.0, 0.02, 0.1, 0.5, 0.9, ONE_MINUS_ULP, 1.0, 2.0, -
 
 fn mode(m: u32) -> TransportMode {
     TransportMode::from_u32(m)
+}
+
+/// A glTF material in the conductor slot of a case (parity.wgsl `metal_rough` unpacks it):
+/// the distribution as is, `base_color` and `metallic` in `fresnel.a`, `f0` and
+/// `specular_weight` in `fresnel.b`, `p_specular` in `fresnel.eta`, `pad` in `fresnel.kind`.
+pub(super) fn pack_metal_rough(m: &GltfMetalRough) -> GgxConductor {
+    let ([r, g, b], [x, y, z]) = (m.base_color, m.f0);
+    let fresnel = FresnelParams {
+        kind: m.pad,
+        eta: m.p_specular,
+        pad: [0; 2],
+        a: [r, g, b, m.metallic],
+        b: [x, y, z, m.specular_weight],
+    };
+    GgxConductor { distribution: m.distribution, pad: [0; 2], fresnel }
+}
+
+/// The inverse of [`pack_metal_rough`].
+pub(super) fn unpack_metal_rough(k: &GgxConductor) -> GltfMetalRough {
+    let (a, b) = (k.fresnel.a, k.fresnel.b);
+    GltfMetalRough {
+        base_color: [a[0], a[1], a[2]],
+        metallic: a[3],
+        f0: [b[0], b[1], b[2]],
+        specular_weight: b[3],
+        distribution: k.distribution,
+        p_specular: k.fresnel.eta,
+        pad: k.fresnel.kind,
+    }
+}
+
+/// `(ior, specular_color, specular_weight)` of the glTF rows: the defaults, `KHR_materials_ior`'s
+/// 0 (f0 = 1 times the colour), an index-matched 1, diamond with a colour above one, no
+/// specular lobe, and a colour that saturates `f0` at 1.
+fn gltf_extensions() -> [(f32, Vec3, f32); 6] {
+    [
+        (1.5, Vec3::ONE, 1.0),
+        (0.0, Vec3::new(1.0, 0.8, 0.6), 0.5),
+        (2.4, Vec3::new(1.0, 0.5, 2.0), 0.7),
+        (1.0, Vec3::ONE, 1.0),
+        (1.5, Vec3::ONE, 0.0),
+        (1.33, Vec3::new(30.0, 1.0, 0.2), 1.0),
+    ]
+}
+
+/// glTF materials: every alpha edge of the conductor rows (mirrors, `DELTA_ALPHA`, rough,
+/// anisotropic) three times, with base colours, metallic values and [`gltf_extensions`] in turn;
+/// a lone diffuse lobe (`p_s = 0`), lone specular lobes (`p_s = 1`, rough and mirror); and
+/// fields that bypass the constructor: NaN, infinite, negative and above-one values, a
+/// `p_specular` outside `[0, 1]` and a subnormal one over a mirror, raw alphas, a non-zero pad.
+pub(super) fn metal_roughs() -> Vec<GltfMetalRough> {
+    let alphas = [
+        (0.0, 0.0),
+        (5e-4, 5e-4),
+        (1e-3, 1e-3),
+        (0.01, 0.01),
+        (0.09, 0.09),
+        (0.3, 0.3),
+        (1.0, 1.0),
+        (0.01, 1.0),
+        (0.5, 0.005),
+        (1e-4, 1e-2),
+    ];
+    let bases = [Vec3::new(0.8, 0.5, 0.2), Vec3::ONE, Vec3::ZERO, Vec3::new(0.02, 0.9, 0.4)];
+    let metallics = [0.0, 0.5, 1.0, 0.2];
+    let ext = gltf_extensions();
+    let constructed = alphas.iter().enumerate().flat_map(|(i, &(ax, ay))| {
+        (0..3).map(move |j| {
+            let (ior, color, weight) = ext[(i + 2 * j) % ext.len()];
+            GltfMetalRough::new(bases[(i + j) % 4], metallics[(i + 3 * j) % 4], ax, ay, ior, color, weight)
+        })
+    });
+    let lone = [
+        GltfMetalRough::new(Vec3::ONE, 0.0, 0.3, 0.3, 1.5, Vec3::ONE, 0.0),
+        GltfMetalRough::core(Vec3::new(0.9, 0.6, 0.3), 1.0, 0.3),
+        GltfMetalRough::core(Vec3::new(0.9, 0.6, 0.3), 1.0, 0.0),
+    ];
+    let raw = |base: [f32; 3], metallic, f0: [f32; 3], specular_weight, (alpha_x, alpha_y), p_specular, pad| {
+        let distribution = TrowbridgeReitz { alpha_x, alpha_y };
+        GltfMetalRough { base_color: base, metallic, f0, specular_weight, distribution, p_specular, pad }
+    };
+    let raw = [
+        raw([NAN, -1.0, 2.0], NAN, [INF, -1.0, 0.5], 2.0, (0.3, 0.3), NAN, 0),
+        raw([0.5, 0.5, 0.5], -1.0, [NAN, 0.04, 0.04], 0.5, (NAN, 0.3), -0.5, 0),
+        raw([INF, 0.2, -INF], 0.5, [0.04; 3], NAN, (2.0, 3.0), 2.0, 0xdead_beef),
+        raw([0.8, 0.5, 0.2], 0.3, [0.04; 3], 1.0, (0.0, 0.0), 1e-45, 0),
+        raw([0.8, 0.5, 0.2], 0.3, [0.04; 3], 1.0, (-0.3, -0.3), 0.5, 0),
+        raw([1e-40, 0.5, 1.0], f32::MAX, [1.0; 3], -0.0, (1e-40, 0.3), ONE_MINUS_ULP, 0),
+    ];
+    constructed.chain(lone).chain(raw).collect()
+}
+
+/// [`sample_at_gpu_wi`] for `gltf_metal_rough_sample` (the material unpacked from the case's
+/// conductor): ggx-core's `pdf` and `eval / pdf` at the GPU's `wi`.
+fn metal_rough_sample_at_gpu_wi(
+    i: &Input,
+    k: &GgxConductor,
+    _: &GgxDielectric,
+    got: &[u32],
+    cpu: &[Expect],
+) -> Option<Vec<Expect>> {
+    let wi = differing_gpu_wi(got, cpu)?;
+    let (wo, m) = (i.va(), unpack_metal_rough(k));
+    let pdf = m.pdf(wo, wi, Sampling::from_u32(i.n[0]));
+    Some(rebased(cpu, m.eval(wo, wi) / pdf, pdf))
+}
+
+/// A `GltfMetalRough`'s output words (`put_metal_rough` in parity.wgsl): the copied and clamped
+/// fields exactly, `f0` (a division and three products) to [`FORMULA`], `p_specular` (a ratio
+/// of sums whose diffuse term cancels where `specular_weight f_avg(max(f0))` nears one; in
+/// `[0, 1]`) to [`UNIT`].
+const METAL_ROUGH_GROUPS: [Group; 7] = [
+    Group::float("base_color", 3, Bound::Exact),
+    Group::float("metallic", 1, Bound::Exact),
+    Group::float("f0", 3, FORMULA),
+    Group::float("specular_weight", 1, Bound::Exact),
+    Group::float("alpha", 2, Bound::Exact),
+    Group::float("p_specular", 1, UNIT),
+    Group::bits("pad", 1),
+];
+
+/// The words of a `GltfMetalRough` for [`METAL_ROUGH_GROUPS`].
+fn metal_rough_words(m: &GltfMetalRough) -> Vec<Expect> {
+    let d = m.distribution;
+    let mut e = floats(
+        &[m.base_color.as_slice(), &[m.metallic], &m.f0, &[m.specular_weight, d.alpha_x, d.alpha_y, m.p_specular]]
+            .concat(),
+    );
+    e.extend(words(&[m.pad]));
+    e
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1224,6 +1355,127 @@ pub(super) fn specs() -> Vec<Spec> {
         floats(&[sample.mis_pdf()])
     })
     .ieee();
+
+    // metal_rough.rs
+    let ior_cases = scalars().into_iter().chain(ODD_ETAS).chain([0.0, -0.0, 1.0, 1.5, 1.33, 2.4]);
+    s.row("clamp_ior", &[Group::value(Bound::Exact)], ior_cases.map(|x| (Input::scalar(x), none())), |i, _| {
+        floats(&[clamp_ior(i.a[0])])
+    });
+    let colours = [
+        Vec3::ONE,
+        Vec3::new(1.0, 0.5, 2.0),
+        Vec3::ZERO,
+        Vec3::new(NAN, INF, -1.0),
+        Vec3::new(1e30, -0.0, 1e-40),
+        Vec3::new(30.0, f32::MAX, -INF),
+    ];
+    let f0_cases = ETAS.into_iter().chain(ODD_ETAS).chain([0.0, 1.33, 3.0]).flat_map(|ior| {
+        colours.map(|c| (Input { a: [ior, 0.0, 0.0, 0.0], b: c.extend(0.0).to_array(), ..Default::default() }, none()))
+    });
+    s.row("dielectric_f0", &[Group::float("rgb", 3, FORMULA)], f0_cases, |i, _| {
+        floats(&v3(dielectric_f0(i.a[0], i.vb())))
+    });
+    // Arguments in turn (coprime list lengths): ordinary, edge and hostile values of each.
+    let new_bases = [
+        Vec3::new(0.8, 0.5, 0.2),
+        Vec3::ONE,
+        Vec3::ZERO,
+        Vec3::new(NAN, INF, -INF),
+        Vec3::new(-1.0, 2.0, 1e-40),
+        Vec3::new(0.02, 0.9, ONE_MINUS_ULP),
+        Vec3::new(f32::MAX, 0.5, 1e-7),
+    ];
+    let new_scalars = [0.0, 0.5, 1.0, 0.2, NAN, INF, -INF, -1.0, 2.0, 1e-40, ONE_MINUS_ULP];
+    let new_iors = [1.5, 0.0, -0.0, 1.0, 2.4, 1.33, NAN, INF, -1.0, 0.5, 1e30, 3.0, 1e-40];
+    let new_cases = (0..4000usize).map(|n| {
+        let base = new_bases[n % new_bases.len()];
+        let metallic = new_scalars[(n / 7) % new_scalars.len()];
+        let (ax, ay) = ALPHAS[(n / 3) % ALPHAS.len()];
+        let ior = new_iors[(n / 5) % new_iors.len()];
+        let colour = colours[(n / 11) % colours.len()];
+        let weight = new_scalars[(n / 13 + 3) % new_scalars.len()];
+        let input = Input {
+            a: base.extend(metallic).to_array(),
+            b: [ax, ay, ior, weight],
+            c: colour.extend(0.0).to_array(),
+            ..Default::default()
+        };
+        (input, none())
+    });
+    s.row("gltf_metal_rough_new", &METAL_ROUGH_GROUPS, new_cases, |i, _| {
+        metal_rough_words(&GltfMetalRough::new(i.va(), i.a[3], i.b[0], i.b[1], i.b[2], i.vc(), i.b[3]))
+    });
+    let core_cases = new_bases.into_iter().flat_map(|base| {
+        new_scalars.into_iter().flat_map(move |metallic| {
+            [0.0, 5e-4, 1e-3, 0.09, 1.0, NAN, 2.0].map(|alpha| {
+                (Input { a: base.extend(metallic).to_array(), b: [alpha, 0.0, 0.0, 0.0], ..Default::default() }, none())
+            })
+        })
+    });
+    s.row("gltf_metal_rough_core", &METAL_ROUGH_GROUPS, core_cases, |i, _| {
+        metal_rough_words(&GltfMetalRough::core(i.va(), i.a[3], i.b[0]))
+    });
+    let materials = || metal_roughs().into_iter().map(|m| pack_metal_rough(&m));
+    s.row(
+        "gltf_metal_rough_is_delta",
+        &[Group::bits("delta", 1)],
+        materials().map(|k| (Input::default(), k)),
+        |_, k| words(&[unpack_metal_rough(k).is_delta() as u32]),
+    );
+    s.row(
+        "gltf_metal_rough_specular",
+        &[Group::bits("alpha", 2), Group::bits("pad", 2), Group::bits("fresnel", 12)],
+        materials().map(|k| (Input::default(), k)),
+        |_, k| words(bytemuck::cast_slice::<GgxConductor, u32>(&[unpack_metal_rough(k).specular()])),
+    );
+    s.row(
+        "gltf_metal_rough_specular_probability",
+        &[Group::value(Bound::Exact)],
+        materials().map(|k| (Input::default(), k)),
+        |_, k| floats(&[unpack_metal_rough(k).specular_probability()]),
+    );
+    let cos_cases =
+        || materials().flat_map(|k| FRESNEL_COS.map(|c| (Input { c: [c, 0.0, 0.0, 0.0], ..Default::default() }, k)));
+    s.row("gltf_metal_rough_specular_fresnel", &[Group::float("rgb", 3, FORMULA)], cos_cases(), |i, k| {
+        floats(&v3(unpack_metal_rough(k).specular_fresnel(i.c[0])))
+    });
+    // 1 - specular_weight max(fr_d) cancels where fr_d nears one: absolute in [0, 1].
+    s.row("gltf_metal_rough_diffuse_weight", &[Group::value(UNIT)], cos_cases(), |i, k| {
+        floats(&[unpack_metal_rough(k).diffuse_weight(i.c[0])])
+    });
+    let metal_rough_pairs = || {
+        materials().flat_map(|k| {
+            few_directions().into_iter().flat_map(move |a| few_directions().into_iter().map(move |b| (a, b, k)))
+        })
+    };
+    s.row(
+        "gltf_metal_rough_eval",
+        &[Group::float("rgb", 3, FORMULA)],
+        metal_rough_pairs().map(|(a, b, k)| (Input::pair(a, b), k)),
+        |i, k| floats(&v3(unpack_metal_rough(k).eval(i.va(), i.vb()))),
+    );
+    let pdf_cases = metal_rough_pairs()
+        .flat_map(|(a, b, k)| SAMPLINGS.map(|t| (Input { n: [t, 0, 0, 0], ..Input::pair(a, b) }, k)));
+    s.row("gltf_metal_rough_pdf", &[Group::value(FORMULA)], pdf_cases, |i, k| {
+        floats(&[unpack_metal_rough(k).pdf(i.va(), i.vb(), Sampling::from_u32(i.n[0]))])
+    });
+    let few_u = us(&[0.0, 0.25, 0.5, 0.77, ONE_MINUS_ULP]);
+    let sample_cases = materials().flat_map(|k| {
+        let few_u = few_u.clone();
+        wo_directions().into_iter().flat_map(move |wo| {
+            let few_u = few_u.clone();
+            SAMPLINGS.into_iter().flat_map(move |t| {
+                few_u.clone().into_iter().enumerate().map(move |(j, u)| {
+                    let c = [u.x, u.y, U_LOBES[j % U_LOBES.len()], 0.0];
+                    (Input { c, n: [t, 0, 0, 0], ..Input::dir(wo) }, k)
+                })
+            })
+        })
+    });
+    s.row("gltf_metal_rough_sample", &SAMPLE_GROUPS, sample_cases, |i, k| {
+        sample_words(unpack_metal_rough(k).sample(i.va(), i.u(), i.c[2], Sampling::from_u32(i.n[0])))
+    })
+    .rebase(metal_rough_sample_at_gpu_wi, "weight, pdf: cpu at the gpu's wi");
 
     // energy.wgsl
     energy::energy_specs(&mut s);

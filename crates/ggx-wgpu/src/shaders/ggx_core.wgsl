@@ -14,8 +14,8 @@
 // adapter it runs on.
 //
 // Layout: `TrowbridgeReitz` (8 bytes), `FresnelParams` (48), `GgxConductor` (64), `GgxDielectric`
-// (16), `CounterRng` (8) and `SampleStream` (16) match the Rust `#[repr(C)]` structs byte for
-// byte. `Frame`, `BsdfSample`, `Refracted` and `Half` are values only (the Rust `Frame` packs
+// (16), `GltfMetalRough` (48), `CounterRng` (8) and `SampleStream` (16) match the Rust
+// `#[repr(C)]` structs byte for byte. `Frame`, `BsdfSample`, `Refracted` and `Half` are values only (the Rust `Frame` packs
 // three 12-byte `Vec3`s). `TransportMode` is its `u32` discriminant.
 
 // ---------------------------------------------------------------------------------------------
@@ -1033,6 +1033,212 @@ fn ggx_dielectric_sample(
         return none;
     }
     return BsdfSample(wi, vec3(weight), pdf, 0u, 1u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// metal_rough.rs: GltfMetalRough
+// ---------------------------------------------------------------------------------------------
+
+// KHR_materials_ior's default index of refraction (f0 = 0.04).
+const DEFAULT_IOR: f32 = 1.5f;
+// 2 integral (1 - mu)^5 mu dmu = 1 / 21, Schlick's cosine-weighted grazing average.
+const SCHLICK_GRAZING_AVERAGE: f32 = 0.04761904761904762f;
+// Smallest probability gltf_metal_rough_new gives a lobe that is present.
+const P_LOBE_MIN: f32 = 0.1f;
+
+// The glTF 2.0 metallic-roughness BRDF, 48 bytes: `base_color` and `f0` are vec3 with the next
+// f32 in their fourth lane, as the Rust `[f32; 3]` fields are.
+struct GltfMetalRough {
+    base_color: vec3<f32>,
+    metallic: f32,
+    f0: vec3<f32>,
+    specular_weight: f32,
+    distribution: TrowbridgeReitz,
+    p_specular: f32,
+    pad: u32,
+}
+
+// x if finite, else default (metal_rough.rs `finite_or`).
+fn metal_rough_finite_or(x: f32, default_value: f32) -> f32 {
+    return select(default_value, x, is_finite(x));
+}
+
+// Each component clamped to [0, 1], NaN -> 0 (metal_rough.rs `unit3`).
+fn metal_rough_unit3(v: vec3<f32>) -> vec3<f32> {
+    return vec3(fresnel_unit(v.x), fresnel_unit(v.y), fresnel_unit(v.z));
+}
+
+// (x + y + z) / 3 (metal_rough.rs `mean`).
+fn metal_rough_mean(v: vec3<f32>) -> f32 {
+    return (v.x + v.y + v.z) * (1.0 / 3.0);
+}
+
+// Vec3::max_element: max(x, max(y, z)).
+fn max_element3(v: vec3<f32>) -> f32 {
+    return max_num(v.x, max_num(v.y, v.z));
+}
+
+// NaN, inf -> DEFAULT_IOR; 0 kept (KHR_materials_ior: f0 = 1); else clamp(ior, 1, ETA_MAX).
+fn clamp_ior(ior_in: f32) -> f32 {
+    let ior = metal_rough_finite_or(ior_in, DEFAULT_IOR);
+    if ior == 0.0 {
+        return 0.0;
+    }
+    return min_num(max_num(ior, 1.0), ETA_MAX);
+}
+
+// f0 = min(((ior - 1) / (ior + 1))^2 specular_color, 1), colour finite or 1, at least 0; KHR_materials_specular.
+fn dielectric_f0(ior_in: f32, specular_color: vec3<f32>) -> vec3<f32> {
+    let ior = clamp_ior(ior_in);
+    let r = (ior - 1.0) / (ior + 1.0);
+    let r0 = r * r;
+    return vec3(
+        min_num(r0 * max_num(metal_rough_finite_or(specular_color.x, 1.0), 0.0), 1.0),
+        min_num(r0 * max_num(metal_rough_finite_or(specular_color.y, 1.0), 0.0), 1.0),
+        min_num(r0 * max_num(metal_rough_finite_or(specular_color.z, 1.0), 0.0), 1.0),
+    );
+}
+
+// f0 + (1 - f0) / 21, Schlick's hemispherical average (GltfMetalRough::new's `f_avg`).
+fn metal_rough_f_avg(f0: f32) -> f32 {
+    return f0 + (1.0 - f0) * SCHLICK_GRAZING_AVERAGE;
+}
+
+// Sanitized fields (NaN, inf -> 1 then [0, 1]; alphas clamped; f0 = dielectric_f0) and
+// p_specular = a_s / (a_s + a_d) in [0.1, 0.9], 0 without a specular lobe, 1 without a diffuse one.
+fn gltf_metal_rough_new(
+    base_color: vec3<f32>,
+    metallic_in: f32,
+    alpha_x: f32,
+    alpha_y: f32,
+    ior: f32,
+    specular_color: vec3<f32>,
+    specular_weight_in: f32,
+) -> GltfMetalRough {
+    let base = vec3(
+        fresnel_unit(metal_rough_finite_or(base_color.x, 1.0)),
+        fresnel_unit(metal_rough_finite_or(base_color.y, 1.0)),
+        fresnel_unit(metal_rough_finite_or(base_color.z, 1.0)),
+    );
+    let metallic = fresnel_unit(metal_rough_finite_or(metallic_in, 1.0));
+    let specular_weight = fresnel_unit(metal_rough_finite_or(specular_weight_in, 1.0));
+    let f0 = dielectric_f0(ior, specular_color);
+    let f_avg_d = metal_rough_f_avg(max_element3(f0));
+    let f_avg_base = vec3(metal_rough_f_avg(base.x), metal_rough_f_avg(base.y), metal_rough_f_avg(base.z));
+    let a_s = metallic * metal_rough_mean(f_avg_base) + (1.0 - metallic) * specular_weight * f_avg_d;
+    let a_d = (1.0 - metallic) * max_num(1.0 - specular_weight * f_avg_d, 0.0) * metal_rough_mean(base);
+    var p_specular: f32;
+    if !(a_s > 0.0) {
+        p_specular = 0.0;
+    } else if !(a_d > 0.0) {
+        p_specular = 1.0;
+    } else {
+        p_specular = min_num(max_num(a_s / (a_s + a_d), P_LOBE_MIN), 1.0 - P_LOBE_MIN);
+    }
+    return GltfMetalRough(base, metallic, f0, specular_weight, trowbridge_reitz_new(alpha_x, alpha_y), p_specular, 0u);
+}
+
+// glTF's core material: ior 1.5, specular colour 1, specular weight 1, isotropic alpha.
+fn gltf_metal_rough_core(base_color: vec3<f32>, metallic: f32, alpha: f32) -> GltfMetalRough {
+    return gltf_metal_rough_new(base_color, metallic, alpha, alpha, DEFAULT_IOR, vec3(1.0), 1.0);
+}
+
+// Mirror specular lobe: both alphas below DELTA_ALPHA.
+fn gltf_metal_rough_is_delta(b: GltfMetalRough) -> bool {
+    return is_effectively_smooth(b.distribution);
+}
+
+// The specular lobe: GgxConductor of the distribution with F = 1.
+fn gltf_metal_rough_specular(b: GltfMetalRough) -> GgxConductor {
+    let one = FresnelParams(FRESNEL_KIND_ONE, 1.0, vec2(0u), vec4(0.0), vec4(0.0));
+    return GgxConductor(b.distribution, vec2(0u), one);
+}
+
+// clamp(p_specular, 0, 1), NaN -> 0.
+fn gltf_metal_rough_specular_probability(b: GltfMetalRough) -> f32 {
+    return fresnel_unit(b.p_specular);
+}
+
+// (specular lobe weight, diffuse lobe weight) at cos = |wo.h|: xyz (1 - m) sw fr_d + m F_m,
+// w (1 - m) max(1 - sw max(fr_d), 0); glTF 2.0 Appendix B fresnel_mix, conductor_fresnel, mix.
+fn gltf_metal_rough_weights(b: GltfMetalRough, cos_theta: f32) -> vec4<f32> {
+    let metallic = fresnel_unit(b.metallic);
+    let specular_weight = fresnel_unit(b.specular_weight);
+    let fr_d = fresnel_schlick(cos_theta, metal_rough_unit3(b.f0), vec3(1.0));
+    let fr_m = fresnel_schlick(cos_theta, metal_rough_unit3(b.base_color), vec3(1.0));
+    let specular = fr_d * ((1.0 - metallic) * specular_weight) + fr_m * metallic;
+    let diffuse = (1.0 - metallic) * max_num(1.0 - specular_weight * max_element3(fr_d), 0.0);
+    return vec4(specular, diffuse);
+}
+
+// (1 - m) sw (f0 + (1 - f0) (1 - cos)^5) + m (base + (1 - base) (1 - cos)^5); glTF 2.0 Appendix B.
+fn gltf_metal_rough_specular_fresnel(b: GltfMetalRough, cos_theta: f32) -> vec3<f32> {
+    return gltf_metal_rough_weights(b, cos_theta).xyz;
+}
+
+// (1 - m) (1 - sw max(f0 + (1 - f0) (1 - cos)^5)), at least 0; glTF 2.0 Appendix B fresnel_mix.
+fn gltf_metal_rough_diffuse_weight(b: GltfMetalRough, cos_theta: f32) -> f32 {
+    return gltf_metal_rough_weights(b, cos_theta).w;
+}
+
+// f |wi.z| = specular_fresnel(|wo.h|) D G2 / (4 wo.z) + diffuse_weight(|wo.h|) base wi.z / pi; glTF 2.0 Appendix B.
+fn gltf_metal_rough_eval(b: GltfMetalRough, wo_in: vec3<f32>, wi_in: vec3<f32>) -> vec3<f32> {
+    let wo = normalize_or_zero(wo_in);
+    let wi = normalize_or_zero(wi_in);
+    if !(wo.z > 0.0 && wi.z > 0.0) {
+        return vec3(0.0);
+    }
+    // |wo.h|; rounding can make it 0 or negative where wo ~ -wi (fresnel_schlick clamps).
+    let cos_h = dot3(wo, normalize_or_zero(wo + wi));
+    let w = gltf_metal_rough_weights(b, cos_h);
+    let s = ggx_conductor_eval(gltf_metal_rough_specular(b), wo, wi).x;
+    return w.xyz * s + metal_rough_unit3(b.base_color) * (w.w * wi.z * FRAC_1_PI);
+}
+
+// p_s pdf_s(wi) + (1 - p_s) wi.z / pi, pdf_s = ggx_conductor_pdf of the specular lobe.
+fn gltf_metal_rough_pdf(b: GltfMetalRough, wo_in: vec3<f32>, wi_in: vec3<f32>, sampling: u32) -> f32 {
+    let wo = normalize_or_zero(wo_in);
+    let wi = normalize_or_zero(wi_in);
+    if !(wo.z > 0.0 && wi.z > 0.0) {
+        return 0.0;
+    }
+    let p = gltf_metal_rough_specular_probability(b);
+    let pdf_s = ggx_conductor_pdf(gltf_metal_rough_specular(b), wo, wi, sampling);
+    return p * pdf_s + (1.0 - p) * pdf_cosine_hemisphere(wi);
+}
+
+// The specular lobe (ggx_conductor_sample) when u_lobe < p_s, else the cosine hemisphere; weight =
+// eval / pdf of the mixture. A mirror lobe: delta sample, pdf p_s, weight specular_fresnel(wo.z) / p_s.
+fn gltf_metal_rough_sample(b: GltfMetalRough, wo_in: vec3<f32>, u: vec2<f32>, u_lobe: f32, sampling: u32) -> BsdfSample {
+    var none: BsdfSample;
+    let wo = normalize_or_zero(wo_in);
+    if !(wo.z > 0.0) {
+        return none;
+    }
+    let p = gltf_metal_rough_specular_probability(b);
+    var wi: vec3<f32>;
+    if sanitize_u(u_lobe) < p {
+        let s = ggx_conductor_sample(gltf_metal_rough_specular(b), wo, u, sampling);
+        if s.valid == 0u {
+            return none;
+        }
+        if s.is_delta != 0u {
+            let weight = gltf_metal_rough_specular_fresnel(b, wo.z) / p;
+            if !is_finite3(weight) {
+                return none;
+            }
+            return BsdfSample(s.wi, weight, p, 1u, 1u);
+        }
+        wi = s.wi;
+    } else {
+        wi = sample_cosine_hemisphere(u);
+    }
+    let pdf = gltf_metal_rough_pdf(b, wo, wi, sampling);
+    let weight = gltf_metal_rough_eval(b, wo, wi) / pdf;
+    if !(pdf > 0.0 && is_finite(pdf) && is_finite3(weight)) {
+        return none;
+    }
+    return BsdfSample(wi, weight, pdf, 0u, 1u);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -129,6 +129,19 @@ const F_GGX_DIELECTRIC_MS_PDF: u32 = 88u;
 const F_GGX_DIELECTRIC_MS_SAMPLE: u32 = 89u;
 const F_THIN_DIELECTRIC_REFLECTANCE: u32 = 90u;
 const F_THIN_DIELECTRIC_SAMPLE: u32 = 91u;
+// metal_rough.rs.
+const F_CLAMP_IOR: u32 = 92u;
+const F_DIELECTRIC_F0: u32 = 93u;
+const F_GLTF_METAL_ROUGH_NEW: u32 = 94u;
+const F_GLTF_METAL_ROUGH_CORE: u32 = 95u;
+const F_GLTF_METAL_ROUGH_IS_DELTA: u32 = 96u;
+const F_GLTF_METAL_ROUGH_SPECULAR: u32 = 97u;
+const F_GLTF_METAL_ROUGH_SPECULAR_PROBABILITY: u32 = 98u;
+const F_GLTF_METAL_ROUGH_SPECULAR_FRESNEL: u32 = 99u;
+const F_GLTF_METAL_ROUGH_DIFFUSE_WEIGHT: u32 = 100u;
+const F_GLTF_METAL_ROUGH_EVAL: u32 = 101u;
+const F_GLTF_METAL_ROUGH_PDF: u32 = 102u;
+const F_GLTF_METAL_ROUGH_SAMPLE: u32 = 103u;
 
 var<private> out_base: u32;
 
@@ -172,6 +185,26 @@ fn conductor_ms(p: ParityIn, bsdf: GgxConductor) -> GgxConductorMs {
 // The compensated dielectric of a case: the case's dielectric, compensation in m.x.
 fn dielectric_ms(p: ParityIn, dielectric: GgxDielectric) -> GgxDielectricMs {
     return GgxDielectricMs(dielectric, p.m.x, array<u32, 3>(0u, 0u, 0u));
+}
+
+// The glTF material of a case, packed into the case's conductor (parity/cases.rs
+// `pack_metal_rough`): distribution as is, base_color and metallic in fresnel.a, f0 and
+// specular_weight in fresnel.b, p_specular in fresnel.eta, pad in fresnel.kind.
+fn metal_rough(bsdf: GgxConductor) -> GltfMetalRough {
+    let f = bsdf.fresnel;
+    return GltfMetalRough(f.a.xyz, f.a.w, f.b.xyz, f.b.w, bsdf.distribution, f.eta, f.kind);
+}
+
+// A GltfMetalRough's words: base_color, metallic, f0, specular_weight, alphas, p_specular, pad.
+fn put_metal_rough(b: GltfMetalRough) {
+    put_v3(0u, b.base_color);
+    put_f(3u, b.metallic);
+    put_v3(4u, b.f0);
+    put_f(7u, b.specular_weight);
+    put_f(8u, b.distribution.alpha_x);
+    put_f(9u, b.distribution.alpha_y);
+    put_f(10u, b.p_specular);
+    put_u(11u, b.pad);
 }
 
 // Behaviour of builtins and arithmetic on special values; inputs come from the buffer so that
@@ -537,6 +570,64 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         }
         case F_THIN_DIELECTRIC_SAMPLE: {
             put_sample(thin_dielectric_sample(p.c.y, p.a.xyz, p.c.z));
+        }
+        // metal_rough.rs. clamp_ior reads ior in a.x; dielectric_f0 ior in a.x and the specular
+        // colour in b.xyz; gltf_metal_rough_new the base colour in a.xyz, metallic in a.w, the
+        // alphas in b.xy, ior in b.z, the specular weight in b.w and the specular colour in
+        // c.xyz (gltf_metal_rough_core: base colour, metallic, alpha in b.x). The method rows
+        // read the material from the case's conductor (`metal_rough`), wo in a, wi in b, cos in
+        // c.x, u and u_lobe in c.xyz, sampling in n.x.
+        case F_CLAMP_IOR: {
+            put_f(0u, clamp_ior(p.a.x));
+        }
+        case F_DIELECTRIC_F0: {
+            put_v3(0u, dielectric_f0(p.a.x, p.b.xyz));
+        }
+        case F_GLTF_METAL_ROUGH_NEW: {
+            put_metal_rough(gltf_metal_rough_new(p.a.xyz, p.a.w, p.b.x, p.b.y, p.b.z, p.c.xyz, p.b.w));
+        }
+        case F_GLTF_METAL_ROUGH_CORE: {
+            put_metal_rough(gltf_metal_rough_core(p.a.xyz, p.a.w, p.b.x));
+        }
+        case F_GLTF_METAL_ROUGH_IS_DELTA: {
+            put_b(0u, gltf_metal_rough_is_delta(metal_rough(bsdf)));
+        }
+        case F_GLTF_METAL_ROUGH_SPECULAR: {
+            let k = gltf_metal_rough_specular(metal_rough(bsdf));
+            put_f(0u, k.distribution.alpha_x);
+            put_f(1u, k.distribution.alpha_y);
+            put_u(2u, k.pad.x);
+            put_u(3u, k.pad.y);
+            put_u(4u, k.fresnel.kind);
+            put_f(5u, k.fresnel.eta);
+            put_u(6u, k.fresnel.pad.x);
+            put_u(7u, k.fresnel.pad.y);
+            put_f(8u, k.fresnel.a.x);
+            put_f(9u, k.fresnel.a.y);
+            put_f(10u, k.fresnel.a.z);
+            put_f(11u, k.fresnel.a.w);
+            put_f(12u, k.fresnel.b.x);
+            put_f(13u, k.fresnel.b.y);
+            put_f(14u, k.fresnel.b.z);
+            put_f(15u, k.fresnel.b.w);
+        }
+        case F_GLTF_METAL_ROUGH_SPECULAR_PROBABILITY: {
+            put_f(0u, gltf_metal_rough_specular_probability(metal_rough(bsdf)));
+        }
+        case F_GLTF_METAL_ROUGH_SPECULAR_FRESNEL: {
+            put_v3(0u, gltf_metal_rough_specular_fresnel(metal_rough(bsdf), p.c.x));
+        }
+        case F_GLTF_METAL_ROUGH_DIFFUSE_WEIGHT: {
+            put_f(0u, gltf_metal_rough_diffuse_weight(metal_rough(bsdf), p.c.x));
+        }
+        case F_GLTF_METAL_ROUGH_EVAL: {
+            put_v3(0u, gltf_metal_rough_eval(metal_rough(bsdf), p.a.xyz, p.b.xyz));
+        }
+        case F_GLTF_METAL_ROUGH_PDF: {
+            put_f(0u, gltf_metal_rough_pdf(metal_rough(bsdf), p.a.xyz, p.b.xyz, p.n.x));
+        }
+        case F_GLTF_METAL_ROUGH_SAMPLE: {
+            put_sample(gltf_metal_rough_sample(metal_rough(bsdf), p.a.xyz, p.c.xy, p.c.z, p.n.x));
         }
         case F_PROBE: {
             probe(p);
