@@ -12,8 +12,13 @@ use std::time::Instant;
 const DEFAULT_CASES: u32 = 20_000;
 
 /// The test targets: (package, test file).
-const TARGETS: [(&str, &str); 4] =
-    [("ggx-scene", "fuzz"), ("ggx-scene", "readers_fuzz"), ("ggx-film", "film_fuzz"), ("ggx-core", "contract")];
+const TARGETS: [(&str, &str); 5] = [
+    ("ggx-scene", "fuzz"),
+    ("ggx-scene", "readers_fuzz"),
+    ("ggx-scene", "gltf_fuzz"),
+    ("ggx-film", "film_fuzz"),
+    ("ggx-core", "contract"),
+];
 
 /// Parses `[--cases N]` and runs every target with that budget.
 pub fn run(args: &[String]) -> Result<(), String> {

@@ -50,7 +50,7 @@ const USAGE: &str = "usage: cargo xtask <command>
                                  CSV, SVG plots and summary.md under target/xtask/bench/ (see --help)
   stress [--quick] [--samples N] numerical stress sweep of ggx-core's samplers: N samples per method
                                  (default 1e8; --quick: 1e6); fails on any NaN/inf or invalid accepted sample
-  fuzz [--cases N]               mutation tests of the scene, OBJ, HDR, EXR and film-file readers and ggx-core's
+  fuzz [--cases N]               mutation tests of the scene, OBJ, HDR, EXR, glTF and film-file readers and ggx-core's
                                  any-f32 contract with N cases each (default 20000; CI runs a short budget)
   farm --selftest                install Slurm and munge where missing (apt-get), start a one-node cluster
                                  bound to 127.0.0.1 under target/xtask/farm/, run a stand-in job array

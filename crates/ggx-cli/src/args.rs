@@ -87,8 +87,12 @@ pub enum Command {
 /// `ggx render`.
 #[derive(Debug, Args)]
 pub struct RenderArgs {
-    /// Scene file (TOML).
+    /// Scene file (TOML), or a glTF file (.gltf, .glb).
     pub scene: PathBuf,
+
+    /// glTF camera and environment.
+    #[command(flatten, next_help_heading = "glTF")]
+    pub gltf: crate::scene_load::GltfArgs,
 
     /// Output image: .exr (linear HDR) or .png (tone-mapped sRGB), chosen by the extension.
     /// With --frames, runs of `#` in the name are the zero-padded frame number.
@@ -204,8 +208,12 @@ pub struct SizeArgs {
 /// `ggx info`.
 #[derive(Debug, Args)]
 pub struct InfoArgs {
-    /// Scene file (TOML).
+    /// Scene file (TOML), or a glTF file (.gltf, .glb).
     pub scene: PathBuf,
+
+    /// glTF camera and environment.
+    #[command(flatten, next_help_heading = "glTF")]
+    pub gltf: crate::scene_load::GltfArgs,
 
     /// Limits on what is read and allocated.
     #[command(flatten, next_help_heading = "Limits")]

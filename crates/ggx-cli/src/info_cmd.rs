@@ -17,7 +17,7 @@ use crate::{accel, memory};
 /// the BVHs are built, and the build is refused when the estimate is over `--max-memory`.
 pub fn run(args: &InfoArgs) -> Result<()> {
     let limits = args.limits.limits();
-    let scene = ggx_scene::load_scene_with(&args.scene, &limits)?;
+    let scene = crate::scene_load::load(&args.scene, &limits, &args.gltf)?;
     let mut text = describe(&scene);
     let _ = writeln!(text, "{:<13}{}", "memory:", memory::estimate(&scene));
     let _ = writeln!(text, "{:<13}{}", "limits:", describe_limits(&limits));
@@ -159,6 +159,8 @@ fn material_kind(m: &Material) -> &'static str {
         Material::Dielectric { .. } if m.is_anisotropic() => "anisotropic dielectric",
         Material::Dielectric { .. } => "dielectric",
         Material::Emissive { .. } => "emissive",
+        Material::MetalRough(r) if r.is_textured() || r.has_emission_texture() => "glTF metal-rough, textured",
+        Material::MetalRough(_) => "glTF metal-rough",
     }
 }
 

@@ -23,6 +23,7 @@ mod progress;
 mod render_cmd;
 mod runtime_dir;
 mod scene_hash;
+mod scene_load;
 mod stats;
 
 use std::process::ExitCode;

@@ -47,7 +47,7 @@ pub fn run(args: &RenderArgs) -> Result<Outcome> {
 
     let limits = args.limits.limits();
     eprintln!("loading {}", args.scene.display());
-    let mut scene = ggx_scene::load_scene_with(&args.scene, &limits)?;
+    let mut scene = crate::scene_load::load(&args.scene, &limits, &args.gltf)?;
     overrides::apply(&mut scene, args)?;
     let input_files = scene.inputs.clone();
     let inputs: Vec<&Path> = input_files.iter().map(PathBuf::as_path).collect();

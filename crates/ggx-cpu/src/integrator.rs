@@ -22,8 +22,8 @@ use crate::offset::offset_ray_origin;
 use crate::scene_data::SceneData;
 use ggx_core::mis::power_heuristic;
 use ggx_core::{Frame, SampleStream};
-use ggx_render::Bsdf;
-use ggx_scene::{LightStrategy, NO_INDEX};
+use ggx_render::{Bsdf, metal_rough_bsdf, normal_map_at, perturb_normal};
+use ggx_scene::{LightStrategy, NO_INDEX, PUNCTUAL_DIRECTIONAL};
 use glam::{Vec2, Vec3};
 
 /// Rays traced by one path, for the rays/s figure.
@@ -129,7 +129,7 @@ fn segment_medium(bsdf: &Bsdf, current: Vec3, wi_z: f32) -> Vec3 {
 
 /// Radiance along the camera ray `(origin, dir)`.
 #[inline(always)]
-pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELECTRIC: bool>(
+pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELECTRIC: bool, const TEX: bool>(
     scene: &SceneData,
     mut origin: Vec3,
     mut dir: Vec3,
@@ -141,19 +141,18 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
     let use_mis = strategy == LightStrategy::Mis;
     let has_area = AREA && !scene.lights.is_empty();
     let has_env = ENV && scene.environment.is_some();
-    // Probability of choosing each light type in next-event estimation.
-    let p_area = if has_area && has_env {
-        0.5
-    } else if has_area {
-        1.0
-    } else {
-        0.0
-    };
-    let p_env = if has_env { 1.0 - p_area } else { 0.0 };
+    let has_punctual = AREA && !scene.punctual_lights.is_empty();
+    // Probability of choosing each light type in next-event estimation: area lights, punctual
+    // lights and the environment share the selection equally.
+    let classes = u32::from(has_area) + u32::from(has_env) + u32::from(has_punctual);
+    let p_class = if classes > 0 { 1.0 / classes as f32 } else { 0.0 };
+    let p_area = if has_area { p_class } else { 0.0 };
+    let p_punctual = if has_punctual { p_class } else { 0.0 };
+    let p_env = if has_env { 1.0 - p_area - p_punctual } else { 0.0 };
     let draws = Draws {
         lobe: scene.uses_lobe_sample,
-        light: use_nee && (has_area || has_env),
-        select: use_nee && has_area && has_env,
+        light: use_nee && (has_area || has_env || has_punctual),
+        select: use_nee && ((has_area && has_env) || has_punctual),
     };
 
     let mut radiance = Vec3::ZERO;
@@ -203,7 +202,11 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
         if AREA && tri.emitter != NO_INDEX {
             let cos_l = -ng.dot(dir);
             if cos_l > 0.0 {
-                let le = scene.emission.get(material).copied().unwrap_or(Vec3::ZERO);
+                let le = if TEX {
+                    scene.emission_at(material, tri, hit.b1, hit.b2)
+                } else {
+                    scene.emission.get(material).copied().unwrap_or(Vec3::ZERO)
+                };
                 let w = if !use_nee {
                     1.0
                 } else if use_mis {
@@ -217,7 +220,15 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
                 radiance += beta * le * w;
             }
         }
-        let bsdf = scene.bsdfs.get(material).copied().unwrap_or(Bsdf::Black);
+        let mut bsdf = scene.bsdfs.get(material).copied().unwrap_or(Bsdf::Black);
+        // A textured material: its BSDF and normal at this point.
+        let mut mapped_normal = None;
+        let textured = if TEX { scene.textured.get(material).copied().flatten() } else { None };
+        if let Some(m) = &textured {
+            let uv = scene.uv_at(tri, hit.b1, hit.b2);
+            bsdf = metal_rough_bsdf(m, &scene.textures, uv, scene.sampling);
+            mapped_normal = normal_map_at(m, &scene.textures, uv);
+        }
         if (!PLASTIC && matches!(bsdf, Bsdf::Plastic { .. })) || (!DIELECTRIC && bsdf.transmits()) {
             break;
         }
@@ -233,7 +244,11 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
         let ng = if !inside && ng.dot(dir) > 0.0 { -ng } else { ng };
         let ns = match scene.shading_normals.get(tri.normals as usize) {
             Some(n) if tri.normals != NO_INDEX => {
-                let n = n.interpolate(hit.b1, hit.b2);
+                let mut n = n.interpolate(hit.b1, hit.b2);
+                if let (Some(nt), Some(uvs)) = (mapped_normal, scene.uvs.get(tri.normals as usize)) {
+                    let tangents = scene.tangents.get(tri.normals as usize);
+                    n = perturb_normal(n, nt, tri.vertices(), uvs, tangents, hit.b1, hit.b2);
+                }
                 if n.dot(ng) < 0.0 { -n } else { n }
             }
             _ => ng,
@@ -250,13 +265,59 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
         // Next-event estimation.
         if use_nee && !bsdf.is_delta() {
             let pick_area = has_area && s.select < p_area;
-            if AREA && pick_area {
+            let pick_punctual = !pick_area && has_punctual && s.select < p_area + p_punctual;
+            if AREA && pick_punctual {
+                // One punctual light, uniformly: a delta light, no MIS.
+                let n = scene.punctual_lights.len();
+                let u = ((s.select - p_area) / p_punctual).max(0.0);
+                let i = ((u * n as f32) as usize).min(n - 1);
+                if let Some(light) = scene.punctual_lights.get(i) {
+                    let pmf = p_punctual / n as f32;
+                    let (wi_world, dist) = if light.kind == PUNCTUAL_DIRECTIONAL {
+                        (-Vec3::from(light.direction), f32::INFINITY)
+                    } else {
+                        let to = Vec3::from(light.position) - p;
+                        let d = to.length();
+                        (to / d, d)
+                    };
+                    let wi = frame.to_local(wi_world);
+                    let li = light.incident(wi_world, dist);
+                    if dist > 0.0
+                        && wi_world.is_finite()
+                        && li != Vec3::ZERO
+                        && sides_agree(wi, wi_world, ng, transmits)
+                    {
+                        let f = bsdf.eval(wo, wi);
+                        if f != Vec3::ZERO {
+                            counters.shadow_rays += 1;
+                            let origin = if transmits { offset_ray_origin(p, ng * wi.z.signum()) } else { p_out };
+                            let tmax = if dist.is_finite() {
+                                (Vec3::from(light.position) - origin).length() * (1.0 - 1e-3)
+                            } else {
+                                f32::INFINITY
+                            };
+                            let tr = if DIELECTRIC {
+                                let sigma = segment_medium(&bsdf, sigma, wi.z);
+                                if dist.is_finite() { transmittance(sigma, dist) } else { escape_transmittance(sigma) }
+                            } else {
+                                Vec3::ONE
+                            };
+                            if tr != Vec3::ZERO && scene.accel.unoccluded(origin, wi_world, tmax) {
+                                radiance += beta * f * tr * li / pmf;
+                            }
+                        }
+                    }
+                }
+            } else if AREA && pick_area {
                 let u_emitter = if p_area < 1.0 { s.select / p_area } else { s.select };
                 if let Some((e, _pmf, _)) = scene.lights.sample(u_emitter)
                     && let Some(emitter) = scene.lights.emitters.get(e)
                     && let Some(light_tri) = scene.triangles.get(emitter.triangle as usize)
                 {
                     let pl = sample_triangle(light_tri.vertices(), s.light);
+                    // The sampled point's barycentrics (`sample_triangle`'s weights of v1, v2).
+                    let su = s.light.x.max(0.0).sqrt();
+                    let (lb1, lb2) = (su * (1.0 - s.light.y), su * s.light.y);
                     // Offset toward the light's side of the surface.
                     let origin = if transmits { offset_ray_origin(p, ng * (pl - p).dot(ng).signum()) } else { p_out };
                     let to_light = pl - origin;
@@ -271,7 +332,12 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
                         if f != Vec3::ZERO && pdf_light > 0.0 && pdf_light.is_finite() {
                             counters.shadow_rays += 1;
                             if scene.accel.unoccluded(origin, wi_world, dist * (1.0 - 1e-3)) {
-                                let le = scene.emission.get(light_tri.material as usize).copied().unwrap_or(Vec3::ZERO);
+                                let lm = light_tri.material as usize;
+                                let le = if TEX {
+                                    scene.emission_at(lm, light_tri, lb1, lb2)
+                                } else {
+                                    scene.emission.get(lm).copied().unwrap_or(Vec3::ZERO)
+                                };
                                 let w =
                                     if use_mis { power_heuristic(1.0, pdf_light, 1.0, bsdf.pdf(wo, wi)) } else { 1.0 };
                                 let tr = if DIELECTRIC {

@@ -48,7 +48,7 @@ pub struct TileWork<'a> {
 type TileFn = fn(&SceneData, Sampling, TileWork<'_>, &AtomicBool, &AtomicU64) -> Option<Vec<SampleSum>>;
 
 /// Renders one tile's pixels from the samples they hold to `work.to`.
-fn render_tile<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELECTRIC: bool>(
+fn render_tile<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELECTRIC: bool, const TEX: bool>(
     scene: &SceneData,
     sampling: Sampling,
     work: TileWork<'_>,
@@ -71,7 +71,7 @@ fn render_tile<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIE
                 let mut stream = SampleStream::new(sampling.kind, sampling.seed, pixel, s);
                 let jitter = stream.next_2d();
                 let (origin, dir) = scene.ray_generator.generate_ray(Vec2::new(x as f32, y as f32) + jitter);
-                sum.add(trace::<AREA, ENV, PLASTIC, DIELECTRIC>(scene, origin, dir, &mut stream, &mut counters));
+                sum.add(trace::<AREA, ENV, PLASTIC, DIELECTRIC, TEX>(scene, origin, dir, &mut stream, &mut counters));
             }
             out.push(sum);
         }
@@ -85,7 +85,7 @@ fn render_tile<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIE
 macro_rules! tile_fns {
     ($v:expr; $(($a:literal, $e:literal, $p:literal, $d:literal)),* $(,)?) => {
         match ($v.area, $v.env, $v.plastic, $v.dielectric) {
-            $(($a, $e, $p, $d) => render_tile::<$a, $e, $p, $d> as TileFn,)*
+            $(($a, $e, $p, $d) => render_tile::<$a, $e, $p, $d, false> as TileFn,)*
         }
     };
 }
@@ -94,6 +94,10 @@ macro_rules! tile_fns {
 /// or everything when `specialize` is false.
 pub fn select_kernel(features: &SceneFeatures, specialize: bool) -> (TileFn, &'static str) {
     let v = KernelVariant::for_scene(features, specialize);
+    if v.textures {
+        // Only the generic kernel carries textures (`KernelVariant::for_scene`).
+        return (render_tile::<true, true, true, true, true> as TileFn, KernelVariant::ALL.name());
+    }
     let f = tile_fns!(v;
         (false, false, false, false), (true, false, false, false), (false, true, false, false), (true, true, false, false),
         (false, false, true, false), (true, false, true, false), (false, true, true, false), (true, true, true, false),

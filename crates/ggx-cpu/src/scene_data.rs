@@ -1,9 +1,11 @@
 //! What the kernels read: the scene's triangles, BVH, precomputed BSDFs and lights.
 
 use crate::accel::{Accel, AccelKind};
+use ggx_core::Sampling;
 use ggx_render::Bsdf;
 use ggx_scene::{
-    AreaLights, Camera, Environment, LightStrategy, RayGenerator, Scene, SceneFeatures, ShadingNormals, Triangle,
+    AreaLights, Camera, Environment, LightStrategy, Material, MetalRough, PunctualLight, RayGenerator, Scene,
+    SceneFeatures, ShadingNormals, TextureSet, Triangle, TriangleTangents, TriangleUvs,
 };
 use glam::Vec3;
 
@@ -35,12 +37,43 @@ pub struct SceneData {
     pub roulette_depth: u32,
     /// What the scene uses.
     pub features: SceneFeatures,
+    /// Point, spot and directional lights.
+    pub punctual_lights: Vec<PunctualLight>,
+    /// Every texture of the scene.
+    pub textures: TextureSet,
+    /// Per scene material: the metallic-roughness material when it reads a texture (its BSDF,
+    /// normal or emission is then looked up at each shading point), else `None`.
+    pub textured: Vec<Option<MetalRough>>,
+    /// Texture coordinates, parallel to `shading_normals` (empty without textures).
+    pub uvs: Vec<TriangleUvs>,
+    /// Mesh tangents, parallel to `shading_normals` (empty when no mesh gave any).
+    pub tangents: Vec<TriangleTangents>,
+    /// The technique of the textured materials' specular lobes.
+    pub sampling: Sampling,
     /// Some material reads the lobe sample ([`Bsdf::uses_lobe_sample`]): every bounce draws
     /// it, whatever the kernel variant.
     pub uses_lobe_sample: bool,
 }
 
 impl SceneData {
+    /// Texture coordinates of triangle `tri` at barycentrics `(b1, b2)` (zero without any).
+    #[inline]
+    pub fn uv_at(&self, tri: &Triangle, b1: f32, b2: f32) -> glam::Vec2 {
+        self.uvs.get(tri.normals as usize).map_or(glam::Vec2::ZERO, |uv| uv.interpolate(b1, b2))
+    }
+
+    /// Emitted radiance of `material` on triangle `tri` at barycentrics `(b1, b2)`: the
+    /// material's, times its emission texture when it has one.
+    #[inline]
+    pub fn emission_at(&self, material: usize, tri: &Triangle, b1: f32, b2: f32) -> Vec3 {
+        match self.textured.get(material) {
+            Some(Some(m)) if m.has_emission_texture() => {
+                ggx_render::emission_at(m, &self.textures, self.uv_at(tri, b1, b2))
+            }
+            _ => self.emission.get(material).copied().unwrap_or(Vec3::ZERO),
+        }
+    }
+
     /// Precomputes everything from a validated scene.
     pub fn new(scene: &Scene, accel: AccelKind) -> SceneData {
         let strategy = scene.integrator.bsdf_sampling;
@@ -60,6 +93,22 @@ impl SceneData {
             max_depth: scene.integrator.max_depth,
             roulette_depth: scene.integrator.russian_roulette,
             features: scene.features,
+            textures: scene.textures.clone(),
+            punctual_lights: scene.punctual_lights.clone(),
+            textured: scene
+                .materials
+                .iter()
+                .map(|m| match m {
+                    Material::MetalRough(r) if r.is_textured() || r.has_emission_texture() => Some(*r),
+                    _ => None,
+                })
+                .collect(),
+            uvs: scene.mesh.uvs.clone(),
+            tangents: scene.mesh.tangents.clone(),
+            sampling: match Bsdf::new(&Material::MetalRough(MetalRough::default()), strategy) {
+                Bsdf::MetalRough { sampling, .. } => sampling,
+                _ => Sampling::Vndf,
+            },
         }
     }
 }

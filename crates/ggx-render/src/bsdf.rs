@@ -11,8 +11,8 @@ use ggx_core::energy_dielectric::plastic_base_weight;
 use ggx_core::fresnel::fresnel_dielectric;
 use ggx_core::warp::{pdf_cosine_hemisphere, sample_cosine_hemisphere};
 use ggx_core::{
-    BsdfSample, Fresnel, GgxConductor, GgxConductorMs, GgxDielectric, GgxDielectricMs, Sampling, ThinDielectric,
-    TransportMode,
+    BsdfSample, Fresnel, GgxConductor, GgxConductorMs, GgxDielectric, GgxDielectricMs, GltfMetalRough, Sampling,
+    ThinDielectric, TransportMode,
 };
 use ggx_scene::{BsdfStrategy, ConductorFresnel, Material, luminance};
 use glam::{Vec2, Vec3};
@@ -63,6 +63,13 @@ pub enum Bsdf {
         sheet: ThinDielectric,
         /// Tint of the transmission.
         transmittance: Vec3,
+    },
+    /// The glTF metallic-roughness BRDF (diffuse + GGX specular, Schlick Fresnel).
+    MetalRough {
+        /// The BRDF.
+        brdf: GltfMetalRough,
+        /// The technique its specular lobe uses.
+        sampling: Sampling,
     },
     /// Emitters and anything else that reflects nothing.
     Black,
@@ -122,6 +129,17 @@ impl Bsdf {
                 Bsdf::Dielectric { bsdf, transmittance, absorption, sampling }
             }
             Material::Emissive { .. } => Bsdf::Black,
+            Material::MetalRough(m) => {
+                let a = m.roughness * m.roughness;
+                let brdf = GltfMetalRough::new(m.base_color, m.metallic, a, a, m.ior, m.specular_color, m.specular);
+                // The specular lobe's technique; the hemisphere-only ones would sample the
+                // diffuse shape twice: VNDF instead.
+                let sampling = match sampling {
+                    Sampling::Cosine | Sampling::Uniform => Sampling::Vndf,
+                    s => s,
+                };
+                Bsdf::MetalRough { brdf, sampling }
+            }
         }
     }
 
@@ -163,6 +181,7 @@ impl Bsdf {
                 let t = Self::base_weight(&coat, ior, compensate, wo.z, wi.z);
                 coat.eval(wo, wi) + albedo * (t * wi.z * FRAC_1_PI)
             }
+            Bsdf::MetalRough { brdf, .. } => brdf.eval(wo, wi),
             Bsdf::Dielectric { .. } | Bsdf::Thin { .. } | Bsdf::Black => Vec3::ZERO,
         }
     }
@@ -183,6 +202,7 @@ impl Bsdf {
                 let p = Self::coat_probability(fresnel_dielectric(wo.z, ior), albedo);
                 p * coat.pdf(wo, wi, sampling) + (1.0 - p) * pdf_cosine_hemisphere(wi)
             }
+            Bsdf::MetalRough { brdf, sampling } => brdf.pdf(wo, wi, sampling),
             Bsdf::Dielectric { .. } | Bsdf::Thin { .. } | Bsdf::Black => 0.0,
         }
     }
@@ -232,6 +252,7 @@ impl Bsdf {
                 }
                 Some(BsdfSample { wi, weight: self.eval(wo, wi) / pdf, pdf, is_delta: false })
             }
+            Bsdf::MetalRough { brdf, sampling } => brdf.sample(wo, u, u_lobe, sampling),
             Bsdf::Dielectric { .. } | Bsdf::Thin { .. } | Bsdf::Black => None,
         }
     }
@@ -300,7 +321,7 @@ impl Bsdf {
     pub fn uses_lobe_sample(&self) -> bool {
         match self {
             Bsdf::Conductor { brdf, .. } => brdf.is_compensated(),
-            Bsdf::Plastic { .. } | Bsdf::Dielectric { .. } | Bsdf::Thin { .. } => true,
+            Bsdf::Plastic { .. } | Bsdf::Dielectric { .. } | Bsdf::Thin { .. } | Bsdf::MetalRough { .. } => true,
             Bsdf::Diffuse { .. } | Bsdf::Black => false,
         }
     }

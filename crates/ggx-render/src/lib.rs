@@ -16,8 +16,10 @@ mod bsdf;
 mod interface;
 mod kernel;
 mod schedule;
+mod textured;
 
 pub use bsdf::{Bsdf, sampling_for};
 pub use interface::{Job, Progress, RenderControl, RenderError, RenderOptions, RenderResult, new_film};
 pub use kernel::KernelVariant;
 pub use schedule::{MAX_PASS_SPP, pass_end, stream_seed, time_budget};
+pub use textured::{emission_at, metal_rough_at, metal_rough_bsdf, normal_map_at, perturb_normal};

@@ -25,11 +25,17 @@ pub struct SceneFeatures {
     pub emissive_only: bool,
     /// Some shape uses a GGX dielectric (paths can be transmitted).
     pub dielectrics: bool,
+    /// Some shape uses the glTF metallic-roughness material.
+    pub metal_rough: bool,
+    /// Some used material reads a texture (parameters, normal map or emission).
+    pub textures: bool,
+    /// The scene has punctual lights (`KHR_lights_punctual`).
+    pub punctual_lights: bool,
 }
 
 impl SceneFeatures {
     /// Names and values in bit order (bit 0 first).
-    pub fn flags(&self) -> [(&'static str, bool); 10] {
+    pub fn flags(&self) -> [(&'static str, bool); 13] {
         [
             ("area_lights", self.area_lights),
             ("env_map", self.env_map),
@@ -41,13 +47,16 @@ impl SceneFeatures {
             ("shading_normals", self.shading_normals),
             ("emissive_only", self.emissive_only),
             ("dielectrics", self.dielectrics),
+            ("metal_rough", self.metal_rough),
+            ("textures", self.textures),
+            ("punctual_lights", self.punctual_lights),
         ]
     }
 
     /// Bit `i` set when flag `i` of [`Self::flags`] is: area_lights = 1, env_map = 2,
     /// constant_env = 4, diffuse = 8, conductors = 16, plastics = 32, anisotropic = 64,
-    /// shading_normals = 128, emissive_only = 256, dielectrics = 512. For GPU pipeline override
-    /// constants.
+    /// shading_normals = 128, emissive_only = 256, dielectrics = 512, metal_rough = 1024,
+    /// textures = 2048, punctual_lights = 4096. For GPU pipeline override constants.
     pub fn to_bits(&self) -> u32 {
         self.flags().iter().enumerate().fold(0, |bits, (i, (_, on))| bits | (u32::from(*on) << i))
     }
@@ -66,6 +75,9 @@ impl SceneFeatures {
             shading_normals: b(7),
             emissive_only: b(8),
             dielectrics: b(9),
+            metal_rough: b(10),
+            textures: b(11),
+            punctual_lights: b(12),
         }
     }
 
@@ -88,7 +100,7 @@ mod tests {
 
     #[test]
     fn bits_round_trip() {
-        for bits in [0, 1, 0b1_0101_0101, 0x1ff, 0x3ff] {
+        for bits in [0, 1, 0b1_0101_0101, 0x1ff, 0x3ff, 0xfff, 0x1fff] {
             assert_eq!(SceneFeatures::from_bits(bits).to_bits(), bits);
         }
         let f = SceneFeatures { area_lights: true, conductors: true, ..Default::default() };

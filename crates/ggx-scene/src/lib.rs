@@ -22,6 +22,8 @@ mod environment;
 mod error;
 mod features;
 mod geometry;
+mod gltf_asset;
+mod gltf_scene;
 mod integrator;
 mod lights;
 mod limits;
@@ -29,6 +31,7 @@ mod material;
 mod material_build;
 mod memory;
 mod mesh;
+mod punctual;
 mod radiance;
 mod raw;
 mod scene;
@@ -36,6 +39,8 @@ mod scene_build;
 mod shape_build;
 mod shorten;
 mod stats;
+mod texture;
+mod texture_load;
 mod toml_error;
 
 use std::path::Path;
@@ -50,19 +55,26 @@ pub use environment::{
 pub use error::{ErrorKind, SceneError};
 pub use features::SceneFeatures;
 pub use geometry::{Geometry, cube, disk, icosphere, parse_obj, parse_obj_with_limits, rectangle};
+pub use gltf_asset::{GltfCamera, SUPPORTED_EXTENSIONS};
+pub use gltf_scene::{GLTF_DEFAULT_WIDTH, GltfEnvironment, GltfOptions, is_gltf_path, load_gltf_scene};
 pub use integrator::{BsdfStrategy, IntegratorSettings, LightStrategy, MAX_DEPTH, MAX_SEED, MAX_SPP, SamplerKind};
 pub use lights::{AreaLight, AreaLights, Emitter};
 pub use limits::{Limit, LimitError, Limits, ReadError, format_bytes, read_regular_file, read_regular_file_or};
-pub use material::{ConductorFresnel, LUMINANCE_WEIGHTS, Material, MaterialPreset, luminance};
+pub use material::{ConductorFresnel, LUMINANCE_WEIGHTS, Material, MaterialPreset, MetalRough, luminance};
 pub use memory::{
     BYTES_PER_TEXEL, BYTES_PER_TRIANGLE, FILM_BYTES_PER_PIXEL, MemoryEstimate, estimate_memory, film_bytes, map_bytes,
     triangle_bytes,
 };
-pub use mesh::{NO_INDEX, ShadingNormals, Triangle, TriangleMesh};
+pub use mesh::{NO_INDEX, ShadingNormals, Triangle, TriangleMesh, TriangleTangents, TriangleUvs};
+pub use punctual::{PUNCTUAL_DIRECTIONAL, PUNCTUAL_POINT, PUNCTUAL_SPOT, PunctualLight};
 pub use radiance::MAX_RADIANCE;
 pub use scene::Scene;
 pub use shape_build::{MAX_SEGMENTS, MAX_SUBDIVISIONS};
 pub use stats::SceneStats;
+pub use texture::{
+    REF_CHANNEL_SHIFT, REF_SRGB, SRGB_LUT_WORDS, TEXTURE_FLOAT, TEXTURE_NEAREST, TEXTURE_WRAP_S_SHIFT,
+    TEXTURE_WRAP_T_SHIFT, Texels, TextureInfo, TextureRef, TextureSet, Wrap, srgb_to_linear, wrap_coord,
+};
 
 use error::Source;
 
@@ -76,7 +88,13 @@ pub fn load_scene(path: &Path) -> Result<Scene, SceneError> {
 /// most [`Limits::max_scene_bytes`] is read (a directory, FIFO or device such as `/dev/zero`
 /// is refused before it is opened), it must be UTF-8, and its meshes, maps, triangles and
 /// memory stay within `limits`. Meshes and maps resolve relative to its directory.
+///
+/// A `.gltf` or `.glb` file is loaded as a scene of its own ([`load_gltf_scene`] with the
+/// default [`GltfOptions`]).
 pub fn load_scene_with(path: &Path, limits: &Limits) -> Result<Scene, SceneError> {
+    if is_gltf_path(path) {
+        return load_gltf_scene(path, limits, &GltfOptions::default());
+    }
     let name = path.display().to_string();
     let bytes = read_regular_file_or(path, "scene file", Limit::SceneBytes, limits).map_err(|e| {
         let kind = if matches!(e, ReadError::Limit(_)) { ErrorKind::Limit } else { ErrorKind::Io };

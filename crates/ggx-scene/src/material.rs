@@ -3,6 +3,8 @@
 use glam::Vec3;
 use serde::Deserialize;
 
+use crate::texture::TextureRef;
+
 /// Fresnel reflectance of a conductor.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ConductorFresnel {
@@ -129,6 +131,9 @@ pub enum Material {
         /// Scale the single-scattering lobe to conserve energy (`energy_compensation`).
         compensate: bool,
     },
+    /// The glTF 2.0 metallic-roughness material (`ggx_core::GltfMetalRough`), every parameter
+    /// optionally textured, with normal map and emission.
+    MetalRough(MetalRough),
     /// Area-light emitter: radiates `radiance` from its front face, reflects nothing.
     Emissive {
         /// Emitted radiance per RGB channel, >= 0 and not all zero.
@@ -141,6 +146,7 @@ impl Material {
     pub fn emission(&self) -> Vec3 {
         match self {
             Self::Emissive { radiance } => *radiance,
+            Self::MetalRough(m) => m.emission,
             _ => Vec3::ZERO,
         }
     }
@@ -160,9 +166,77 @@ impl Material {
             Self::Conductor { compensate, .. }
             | Self::Plastic { compensate, .. }
             | Self::Dielectric { compensate, .. } => *compensate = on,
-            Self::Diffuse { .. } | Self::Emissive { .. } => {}
+            Self::Diffuse { .. } | Self::Emissive { .. } | Self::MetalRough(_) => {}
         }
         self
+    }
+}
+
+/// The glTF 2.0 metallic-roughness material (glTF 2.0 spec, Appendix B) with
+/// `KHR_materials_ior`, `KHR_materials_specular` and `KHR_materials_emissive_strength`. Each
+/// factor multiplies its texture (when set) at the shading point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MetalRough {
+    /// Base colour factor (linear RGB, [0, 1]).
+    pub base_color: Vec3,
+    /// Base colour texture (sRGB, RGB used; alpha is not used: ggx renders opaque surfaces).
+    pub base_color_texture: TextureRef,
+    /// Metallic factor in [0, 1].
+    pub metallic: f32,
+    /// Metallic texture (glTF: the B channel of `metallicRoughnessTexture`).
+    pub metallic_texture: TextureRef,
+    /// Perceptual roughness factor in [0, 1]; GGX alpha = roughness^2.
+    pub roughness: f32,
+    /// Roughness texture (glTF: the G channel of `metallicRoughnessTexture`).
+    pub roughness_texture: TextureRef,
+    /// Tangent-space normal map (linear RGB, `n = 2 rgb - 1`, +Y up, glTF convention).
+    pub normal_texture: TextureRef,
+    /// Scale of the normal map's X and Y.
+    pub normal_scale: f32,
+    /// Emitted radiance factor (`emissiveFactor * emissive_strength`), >= 0.
+    pub emission: Vec3,
+    /// Emission texture (sRGB).
+    pub emission_texture: TextureRef,
+    /// Index of refraction of the dielectric part (`KHR_materials_ior`, default 1.5).
+    pub ior: f32,
+    /// Specular weight (`KHR_materials_specular`'s `specularFactor`, default 1).
+    pub specular: f32,
+    /// Specular colour (`specularColorFactor`, default 1).
+    pub specular_color: Vec3,
+}
+
+impl Default for MetalRough {
+    fn default() -> Self {
+        Self {
+            base_color: Vec3::ONE,
+            base_color_texture: TextureRef::NONE,
+            metallic: 1.0,
+            metallic_texture: TextureRef::NONE,
+            roughness: 1.0,
+            roughness_texture: TextureRef::NONE,
+            normal_texture: TextureRef::NONE,
+            normal_scale: 1.0,
+            emission: Vec3::ZERO,
+            emission_texture: TextureRef::NONE,
+            ior: 1.5,
+            specular: 1.0,
+            specular_color: Vec3::ONE,
+        }
+    }
+}
+
+impl MetalRough {
+    /// True when some parameter is read from a texture (the renderers then build the BSDF at
+    /// each shading point).
+    pub fn is_textured(&self) -> bool {
+        [self.base_color_texture, self.metallic_texture, self.roughness_texture, self.normal_texture]
+            .iter()
+            .any(TextureRef::is_some)
+    }
+
+    /// True when the emission is textured.
+    pub fn has_emission_texture(&self) -> bool {
+        self.emission_texture.is_some()
     }
 }
 

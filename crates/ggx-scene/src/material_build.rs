@@ -5,19 +5,30 @@ use toml::Spanned;
 
 use crate::check::{Interval, span_of};
 use crate::error::{ErrorKind, SceneError, Source};
-use crate::material::{ConductorFresnel, Material, MaterialPreset};
+use crate::material::{ConductorFresnel, Material, MaterialPreset, MetalRough};
 use crate::radiance::check_radiance;
-use crate::raw::{MaterialType, OneOrMany, RawMaterial};
+use crate::raw::{MaterialType, OneOrMany, RawMaterial, Textured};
+use crate::texture::TextureRef;
+use crate::texture_load::TextureLoader;
 
 const UNIT: Interval = Interval::closed(0.0, 1.0);
 
-/// Validates one material table named `name`.
-pub(crate) fn build(src: Source<'_>, name: &str, raw: &RawMaterial) -> Result<Material, SceneError> {
+/// Validates one material table named `name`; its textures are loaded by `textures`.
+pub(crate) fn build(
+    src: Source<'_>,
+    name: &str,
+    raw: &RawMaterial,
+    textures: &mut TextureLoader<'_>,
+) -> Result<Material, SceneError> {
     let path = format!("materials.{name}");
     let field = |key: &str| format!("{path}.{key}");
     let kind = *raw.kind.get_ref();
     let (type_name, allowed): (_, &[&str]) = match kind {
-        MaterialType::Diffuse => ("diffuse", &["albedo"]),
+        MaterialType::Diffuse => ("diffuse", &["albedo", "normal_map", "normal_scale"]),
+        MaterialType::MetalRough => (
+            "metal-rough",
+            &["base_color", "metallic", "roughness", "normal_map", "normal_scale", "emission", "ior", "specular"],
+        ),
         MaterialType::Conductor => {
             ("conductor", &["roughness", "alpha", "eta", "k", "f0", "preset", "energy_compensation"])
         }
@@ -42,6 +53,12 @@ pub(crate) fn build(src: Source<'_>, name: &str, raw: &RawMaterial) -> Result<Ma
         ("absorption", span_of(&raw.absorption)),
         ("thin", span_of(&raw.thin)),
         ("energy_compensation", span_of(&raw.energy_compensation)),
+        ("base_color", span_of(&raw.base_color)),
+        ("metallic", span_of(&raw.metallic)),
+        ("normal_map", span_of(&raw.normal_map)),
+        ("normal_scale", span_of(&raw.normal_scale)),
+        ("emission", span_of(&raw.emission)),
+        ("specular", span_of(&raw.specular)),
     ];
     src.only_keys(&path, type_name, &present, allowed)?;
     let missing = |what: &str| {
@@ -50,11 +67,33 @@ pub(crate) fn build(src: Source<'_>, name: &str, raw: &RawMaterial) -> Result<Ma
     };
     let albedo = || {
         let a = raw.albedo.as_ref().ok_or_else(|| missing("`albedo`"))?;
-        Ok::<_, SceneError>(Vec3::from(src.array(a, &field("albedo"), UNIT)?))
+        let v = a.get_ref().value().ok_or_else(|| no_texture(src, a.span(), &field("albedo")))?;
+        Ok::<_, SceneError>(Vec3::from(src.array(&Spanned::new(a.span(), *v), &field("albedo"), UNIT)?))
     };
     let compensate = raw.energy_compensation.as_ref().is_none_or(|v| *v.get_ref());
     match kind {
-        MaterialType::Diffuse => Ok(Material::Diffuse { albedo: albedo()? }),
+        MaterialType::Diffuse => {
+            let (normal_texture, normal_scale) = normal_map(src, raw, &path, textures)?;
+            let textured =
+                raw.albedo.as_ref().is_some_and(|a| a.get_ref().value().is_none()) || normal_texture.is_some();
+            if !textured {
+                return Ok(Material::Diffuse { albedo: albedo()? });
+            }
+            // A textured Lambertian: the metal-rough material without its specular lobe
+            // (metallic 0, specular 0), whose BRDF is exactly `base_color / pi`.
+            let a = raw.albedo.as_ref().ok_or_else(|| missing("`albedo`"))?;
+            let (base_color, base_color_texture) = color(src, a, &field("albedo"), textures)?;
+            Ok(Material::MetalRough(MetalRough {
+                base_color,
+                base_color_texture,
+                metallic: 0.0,
+                specular: 0.0,
+                normal_texture,
+                normal_scale,
+                ..MetalRough::default()
+            }))
+        }
+        MaterialType::MetalRough => metal_rough(src, raw, &path, textures),
         MaterialType::Conductor => {
             let [alpha_x, alpha_y] = alpha(src, raw, &path)?.ok_or_else(|| missing("`roughness` or `alpha`"))?;
             let fresnel =
@@ -65,7 +104,8 @@ pub(crate) fn build(src: Source<'_>, name: &str, raw: &RawMaterial) -> Result<Ma
             let [alpha_x, alpha_y] = alpha(src, raw, &path)?.ok_or_else(|| missing("`roughness` or `alpha`"))?;
             if alpha_x != alpha_y {
                 let key = if raw.alpha.is_some() { "alpha" } else { "roughness" };
-                let span = raw.alpha.as_ref().or(raw.roughness.as_ref()).map_or(raw.kind.span(), Spanned::span);
+                let span = raw.alpha.as_ref().map(Spanned::span).or(raw.roughness.as_ref().map(Spanned::span));
+                let span = span.unwrap_or(raw.kind.span());
                 let msg = "plastics are isotropic: give a single number";
                 return Err(src.error(span, &field(key), ErrorKind::Conflict, msg));
             }
@@ -99,7 +139,11 @@ fn alpha(src: Source<'_>, raw: &RawMaterial, path: &str) -> Result<Option<[f32; 
             let msg = "give either `roughness` or `alpha`, not both";
             Err(src.error(a.span(), &format!("{path}.alpha"), ErrorKind::Conflict, msg))
         }
-        (Some(r), None) => Ok(Some(check(r, "roughness")?.map(|r| r * r))),
+        (Some(r), None) => {
+            let field = format!("{path}.roughness");
+            let v = r.get_ref().value().ok_or_else(|| no_texture(src, r.span(), &field))?;
+            Ok(Some(check(&Spanned::new(r.span(), *v), "roughness")?.map(|r| r * r)))
+        }
         (None, Some(a)) => Ok(Some(check(a, "alpha")?)),
         (None, None) => Ok(None),
     }
@@ -179,11 +223,11 @@ fn dielectric(src: Source<'_>, raw: &RawMaterial, path: &str, compensate: bool) 
     };
     let thin = raw.thin.as_ref().is_some_and(|t| *t.get_ref());
     if thin {
-        let rough = raw.alpha.as_ref().or(raw.roughness.as_ref()).filter(|_| alpha_x > 0.0 || alpha_y > 0.0);
-        if let Some(r) = rough {
+        let rough = raw.alpha.as_ref().map(Spanned::span).or(raw.roughness.as_ref().map(Spanned::span));
+        if let Some(r) = rough.filter(|_| alpha_x > 0.0 || alpha_y > 0.0) {
             let key = if raw.alpha.is_some() { "alpha" } else { "roughness" };
             let msg = "a thin sheet is smooth: remove it or set `thin = false`";
-            return Err(src.error(r.span(), &field(key), ErrorKind::Conflict, msg));
+            return Err(src.error(r, &field(key), ErrorKind::Conflict, msg));
         }
         if let Some(a) = raw.absorption.as_ref().filter(|_| absorption != Vec3::ZERO) {
             let msg = "a thin sheet has no interior to absorb in: tint it with `transmittance`";
@@ -191,4 +235,119 @@ fn dielectric(src: Source<'_>, raw: &RawMaterial, path: &str, compensate: bool) 
         }
     }
     Ok(Material::Dielectric { alpha_x, alpha_y, ior, transmittance, absorption, thin, compensate })
+}
+
+/// A texture where only a value is accepted.
+fn no_texture(src: Source<'_>, span: std::ops::Range<usize>, field: &str) -> SceneError {
+    let msg = "textures apply to `metal-rough` materials and a diffuse `albedo`: give a value here";
+    src.error(span, field, ErrorKind::Schema, msg)
+}
+
+/// An RGB in [0, 1] or an sRGB colour texture (factor 1).
+fn color(
+    src: Source<'_>,
+    v: &Spanned<Textured<[f64; 3]>>,
+    field: &str,
+    textures: &mut TextureLoader<'_>,
+) -> Result<(Vec3, TextureRef), SceneError> {
+    match v.get_ref() {
+        Textured::Value(c) => Ok((Vec3::from(src.array(&Spanned::new(v.span(), *c), field, UNIT)?), TextureRef::NONE)),
+        Textured::Texture(t) => Ok((Vec3::ONE, textures.load(src, v.span(), field, t, 0, true)?)),
+    }
+}
+
+/// `normal_map` (linear, tangent space, +Y up) and `normal_scale` (default 1).
+fn normal_map(
+    src: Source<'_>,
+    raw: &RawMaterial,
+    path: &str,
+    textures: &mut TextureLoader<'_>,
+) -> Result<(TextureRef, f32), SceneError> {
+    let scale = src.number_or(raw.normal_scale.as_ref(), 1.0, &format!("{path}.normal_scale"), Interval::ANY)?;
+    let Some(n) = &raw.normal_map else {
+        if let Some(s) = &raw.normal_scale {
+            let msg = "`normal_scale` needs `normal_map`";
+            return Err(src.error(s.span(), &format!("{path}.normal_scale"), ErrorKind::Conflict, msg));
+        }
+        return Ok((TextureRef::NONE, 1.0));
+    };
+    Ok((textures.load(src, n.span(), &format!("{path}.normal_map"), n.get_ref(), 0, false)?, scale))
+}
+
+/// `type = "metal-rough"`: glTF's metallic-roughness material. `base_color` (default 1),
+/// `metallic` (default 0), `roughness` (perceptual, default 0.5), each a value or a texture
+/// (`channel` defaults: metallic B, roughness G, as glTF packs them), `normal_map`,
+/// `emission` (RGB radiance or an sRGB texture), `ior` (default 1.5), `specular` (default 1).
+fn metal_rough(
+    src: Source<'_>,
+    raw: &RawMaterial,
+    path: &str,
+    textures: &mut TextureLoader<'_>,
+) -> Result<Material, SceneError> {
+    let field = |key: &str| format!("{path}.{key}");
+    let (base_color, base_color_texture) = match &raw.base_color {
+        Some(c) => color(src, c, &field("base_color"), textures)?,
+        None => (Vec3::ONE, TextureRef::NONE),
+    };
+    let scalar = |v: Option<&Spanned<Textured<f64>>>,
+                  key: &str,
+                  default: f32,
+                  channel: u32,
+                  textures: &mut TextureLoader<'_>| {
+        match v {
+            None => Ok((default, TextureRef::NONE)),
+            Some(s) => match s.get_ref() {
+                Textured::Value(x) => {
+                    Ok((src.number(&Spanned::new(s.span(), *x), &field(key), UNIT)?, TextureRef::NONE))
+                }
+                Textured::Texture(t) => Ok((1.0, textures.load(src, s.span(), &field(key), t, channel, false)?)),
+            },
+        }
+    };
+    let (metallic, metallic_texture) = scalar(raw.metallic.as_ref(), "metallic", 0.0, 2, textures)?;
+    let (roughness, roughness_texture) = match &raw.roughness {
+        None => (0.5, TextureRef::NONE),
+        Some(r) => match r.get_ref() {
+            Textured::Texture(t) => (1.0, textures.load(src, r.span(), &field("roughness"), t, 1, false)?),
+            Textured::Value(v) => {
+                src.components(r.span(), v.written(), &field("roughness"), UNIT)?;
+                if v.written().len() != 1 {
+                    let msg = "metal-rough materials are isotropic: give a single number";
+                    return Err(src.error(r.span(), &field("roughness"), ErrorKind::Conflict, msg));
+                }
+                (v.components()[0], TextureRef::NONE)
+            }
+        },
+    };
+    let (normal_texture, normal_scale) = normal_map(src, raw, path, textures)?;
+    let (emission, emission_texture) = match &raw.emission {
+        None => (Vec3::ZERO, TextureRef::NONE),
+        Some(e) => match e.get_ref() {
+            Textured::Texture(t) => (Vec3::ONE, textures.load(src, e.span(), &field("emission"), t, 0, true)?),
+            Textured::Value(v) => {
+                let radiance =
+                    Vec3::from(src.array(&Spanned::new(e.span(), *v), &field("emission"), Interval::at_least(0.0))?);
+                check_radiance(radiance.to_array())
+                    .map_err(|msg| src.error(e.span(), &field("emission"), ErrorKind::OutOfRange, msg))?;
+                (radiance, TextureRef::NONE)
+            }
+        },
+    };
+    let ior = src.number_or(raw.ior.as_ref(), 1.5, &field("ior"), Interval::closed(1.0, 3.0))?;
+    let specular = src.number_or(raw.specular.as_ref(), 1.0, &field("specular"), UNIT)?;
+    Ok(Material::MetalRough(MetalRough {
+        base_color,
+        base_color_texture,
+        metallic,
+        metallic_texture,
+        roughness,
+        roughness_texture,
+        normal_texture,
+        normal_scale,
+        emission,
+        emission_texture,
+        ior,
+        specular,
+        specular_color: Vec3::ONE,
+    }))
 }

@@ -83,6 +83,7 @@ pub(crate) enum MaterialType {
     Plastic,
     Dielectric,
     Emissive,
+    MetalRough,
 }
 
 /// `[materials.NAME]`: one flat table, the keys allowed depend on `type`.
@@ -91,8 +92,14 @@ pub(crate) enum MaterialType {
 pub(crate) struct RawMaterial {
     #[serde(rename = "type")]
     pub kind: Spanned<MaterialType>,
-    pub albedo: Opt<[f64; 3]>,
-    pub roughness: Opt<OneOrMany<2>>,
+    pub albedo: Opt<Textured<[f64; 3]>>,
+    pub roughness: Opt<Textured<OneOrMany<2>>>,
+    pub base_color: Opt<Textured<[f64; 3]>>,
+    pub metallic: Opt<Textured<f64>>,
+    pub normal_map: Opt<RawTexture>,
+    pub normal_scale: Opt<f64>,
+    pub emission: Opt<Textured<[f64; 3]>>,
+    pub specular: Opt<f64>,
     pub alpha: Opt<OneOrMany<2>>,
     pub eta: Opt<[f64; 3]>,
     pub k: Opt<[f64; 3]>,
@@ -115,6 +122,7 @@ pub(crate) enum ShapeType {
     Box,
     Disk,
     Mesh,
+    Gltf,
 }
 
 /// `[[shapes]]`: one flat table, the keys allowed depend on `type`.
@@ -123,7 +131,9 @@ pub(crate) enum ShapeType {
 pub(crate) struct RawShape {
     #[serde(rename = "type")]
     pub kind: Spanned<ShapeType>,
-    pub material: Spanned<String>,
+    /// Required for every type but `gltf`, whose materials come from the file (a `material`
+    /// there replaces them all).
+    pub material: Opt<String>,
     pub center: Opt<[f64; 3]>,
     pub radius: Opt<f64>,
     pub subdivisions: Opt<u32>,
@@ -171,6 +181,115 @@ pub(crate) struct RawEnvironment {
     pub resolution: Opt<[u32; 2]>,
     pub scale: Opt<f64>,
     pub rotation: Opt<f64>,
+}
+
+/// A value as written, or a texture (`albedo = [0.8, 0.8, 0.8]` or `albedo = { texture =
+/// "wood.png" }`).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Textured<T> {
+    Value(T),
+    Texture(RawTexture),
+}
+
+impl<T> Textured<T> {
+    /// The value, `None` for a texture.
+    pub fn value(&self) -> Option<&T> {
+        match self {
+            Self::Value(v) => Some(v),
+            Self::Texture(_) => None,
+        }
+    }
+}
+
+impl<'de, T: Deserialize<'de>> Deserialize<'de> for Textured<T> {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let v = toml::Value::deserialize(deserializer)?;
+        if v.is_table() {
+            RawTexture::deserialize(v).map(Self::Texture).map_err(de::Error::custom)
+        } else {
+            T::deserialize(v).map(Self::Value).map_err(de::Error::custom)
+        }
+    }
+}
+
+/// Texture `channel` names.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub(crate) enum Channel {
+    R,
+    G,
+    B,
+    A,
+}
+
+/// Texture `wrap` modes.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub(crate) enum RawWrap {
+    Repeat,
+    Clamp,
+    Mirror,
+}
+
+/// Texture `filter` modes.
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq, Eq)]
+#[serde(rename_all = "kebab-case")]
+pub(crate) enum RawFilter {
+    Bilinear,
+    Nearest,
+}
+
+/// `{ texture = "file.png", channel, wrap, filter, scale, offset, rotation }`, or just the
+/// file name where only a texture makes sense (`normal_map = "n.png"`).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct RawTexture {
+    pub texture: String,
+    pub channel: Option<Channel>,
+    pub wrap: Option<RawWrap>,
+    pub filter: Option<RawFilter>,
+    pub scale: Option<[f64; 2]>,
+    pub offset: Option<[f64; 2]>,
+    pub rotation: Option<f64>,
+}
+
+/// The table form of [`RawTexture`].
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawTextureTable {
+    texture: String,
+    channel: Option<Channel>,
+    wrap: Option<RawWrap>,
+    filter: Option<RawFilter>,
+    scale: Option<[f64; 2]>,
+    offset: Option<[f64; 2]>,
+    rotation: Option<f64>,
+}
+
+impl<'de> Deserialize<'de> for RawTexture {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        let v = toml::Value::deserialize(deserializer)?;
+        if let toml::Value::String(texture) = v {
+            return Ok(RawTexture {
+                texture,
+                channel: None,
+                wrap: None,
+                filter: None,
+                scale: None,
+                offset: None,
+                rotation: None,
+            });
+        }
+        let t = RawTextureTable::deserialize(v).map_err(de::Error::custom)?;
+        Ok(RawTexture {
+            texture: t.texture,
+            channel: t.channel,
+            wrap: t.wrap,
+            filter: t.filter,
+            scale: t.scale,
+            offset: t.offset,
+            rotation: t.rotation,
+        })
+    }
 }
 
 /// A number, or an array of exactly `N` numbers (`alpha = 0.1` or `alpha = [0.1, 0.4]`),

@@ -6,11 +6,14 @@ use crate::camera::Camera;
 use crate::camera_path::{CameraPath, FrameError};
 use crate::environment::Environment;
 use crate::features::SceneFeatures;
+use crate::gltf_asset::GltfCamera;
 use crate::integrator::IntegratorSettings;
 use crate::lights::AreaLights;
 use crate::material::Material;
 use crate::mesh::TriangleMesh;
+use crate::punctual::PunctualLight;
 use crate::stats::SceneStats;
+use crate::texture::TextureSet;
 
 /// A loaded and validated scene.
 #[derive(Clone, Debug, PartialEq)]
@@ -34,6 +37,16 @@ pub struct Scene {
     pub environment: Option<Environment>,
     /// What the scene uses.
     pub features: SceneFeatures,
+    /// Every texture the materials read.
+    pub textures: TextureSet,
+    /// The cameras of the glTF assets (world space), for `--camera NAME`.
+    pub cameras: Vec<GltfCamera>,
+    /// Point, spot and directional lights (`KHR_lights_punctual`), reached by next-event
+    /// estimation only.
+    pub punctual_lights: Vec<PunctualLight>,
+    /// What the loader ignored or approximated (glTF features ggx does not render), one
+    /// sentence each; [`Scene::warnings`] includes them.
+    pub warnings: Vec<String>,
     /// Number of `[[shapes]]` entries.
     pub shape_count: usize,
     /// The scene file as given to the loader.
@@ -66,8 +79,8 @@ impl Scene {
     /// light (no emissive shape, no environment), whose image is black.
     pub fn warnings(&self) -> Vec<String> {
         let source = self.source.display();
-        let mut out = Vec::new();
-        let lit = !self.lights.is_empty() || self.environment.is_some();
+        let mut out = self.warnings.clone();
+        let lit = !self.lights.is_empty() || self.environment.is_some() || !self.punctual_lights.is_empty();
         if self.shape_count == 0 {
             let shows = if lit { "only the environment" } else { "nothing: it is black" };
             out.push(format!("{source} has no shapes: the image shows {shows}"));

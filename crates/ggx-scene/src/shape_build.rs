@@ -15,11 +15,14 @@ use glam::{Affine3A, Mat3, Vec3};
 use crate::check::{Interval, span_of};
 use crate::error::{ErrorKind, SceneError, Source};
 use crate::geometry::{Geometry, build_transform, cube, disk, icosphere, load_obj, rectangle};
+use crate::gltf_asset::GltfAsset;
 use crate::limits::{Limit, LimitError, Limits, ReadError, format_bytes};
 use crate::memory::{BYTES_PER_TRIANGLE, triangle_bytes};
-use crate::mesh::{NO_INDEX, ShadingNormals, Triangle, TriangleMesh};
+use crate::mesh::{NO_INDEX, ShadingNormals, Triangle, TriangleMesh, TriangleTangents, TriangleUvs};
+use crate::punctual::PunctualLight;
 use crate::raw::{RawShape, ShapeType};
 use crate::shorten::short_path;
+use crate::texture::TextureSet;
 
 /// Largest sphere `subdivisions` (20 * 4^7 = 327 680 triangles).
 pub const MAX_SUBDIVISIONS: u32 = 7;
@@ -45,12 +48,24 @@ pub(crate) struct Budget<'a> {
     meshes: HashMap<PathBuf, Rc<Geometry>>,
     /// Mesh files read and parsed (a file named by several shapes counts once).
     loads: usize,
+    /// The textures of the glTF assets loaded so far.
+    pub textures: TextureSet,
+    /// glTF assets by canonical path.
+    assets: HashMap<PathBuf, Rc<GltfAsset>>,
 }
 
 impl<'a> Budget<'a> {
     /// An empty budget within `limits`.
     pub fn new(limits: &'a Limits) -> Self {
-        Self { limits, triangles: 0, mesh_bytes: 0, meshes: HashMap::new(), loads: 0 }
+        Self {
+            limits,
+            triangles: 0,
+            mesh_bytes: 0,
+            meshes: HashMap::new(),
+            loads: 0,
+            textures: TextureSet::default(),
+            assets: HashMap::new(),
+        }
     }
 
     /// Triangles of the shapes prepared so far.
@@ -105,6 +120,31 @@ impl<'a> Budget<'a> {
         let geometry = Rc::new(geometry);
         self.meshes.insert(key, Rc::clone(&geometry));
         Ok(geometry)
+    }
+
+    /// The glTF asset at `path`: loaded before for another shape, or loaded now within what
+    /// the shapes before it leave of `max_triangles` and `max_memory` (its textures join
+    /// [`Self::textures`]), then counted against `max_memory`.
+    fn gltf(&mut self, path: &Path) -> Result<Rc<GltfAsset>, MeshError> {
+        let key = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+        if let Some(a) = self.assets.get(&key) {
+            return Ok(Rc::clone(a));
+        }
+        let used = self.bytes();
+        let left = Limits {
+            max_triangles: self.limits.max_triangles.min(MAX_SCENE_TRIANGLES).saturating_sub(self.triangles),
+            max_memory: self.limits.max_memory.saturating_sub(used),
+            ..*self.limits
+        };
+        self.loads += 1;
+        let textures_before = self.textures.bytes();
+        let asset = crate::gltf_asset::load(path, &left, &mut self.textures)
+            .map_err(|e| if e.contains("(max_") { MeshError::Limit(e) } else { MeshError::File(e) })?;
+        self.mesh_bytes =
+            self.mesh_bytes.saturating_add(asset.bytes).saturating_add(self.textures.bytes() - textures_before);
+        let asset = Rc::new(asset);
+        self.assets.insert(key, Rc::clone(&asset));
+        Ok(asset)
     }
 
     /// `e`, a mesh of shape `index` over what the shapes before it (`used` bytes) left of a
@@ -164,6 +204,9 @@ enum Tessellation {
     Disk { segments: u32 },
     /// A mesh file, already read (and shared by the shapes that name it).
     Mesh(Rc<Geometry>),
+    /// A glTF asset: its primitives placed by their nodes, each with the asset's material
+    /// `material_base + slot` (or the shape's own material).
+    Gltf(Rc<GltfAsset>),
 }
 
 /// A validated shape, not yet tessellated.
@@ -182,20 +225,60 @@ impl PreparedShape {
             Tessellation::Box => 12,
             Tessellation::Disk { segments } => u64::from(*segments),
             Tessellation::Mesh(g) => g.indices.len() as u64,
+            Tessellation::Gltf(a) => a.triangles(),
+        }
+    }
+
+    /// The punctual lights of a `gltf` shape, placed by the shape's transform (none when a
+    /// transformed one is not finite).
+    pub fn punctual_lights(&self) -> Vec<PunctualLight> {
+        let Some(asset) = self.gltf() else { return Vec::new() };
+        let t = self.transform;
+        asset
+            .lights
+            .iter()
+            .map(|l| PunctualLight {
+                position: t.transform_point3(Vec3::from(l.position)).to_array(),
+                direction: t.transform_vector3(Vec3::from(l.direction)).normalize_or_zero().to_array(),
+                ..*l
+            })
+            .filter(|l| Vec3::from(l.position).is_finite() && Vec3::from(l.direction).is_finite())
+            .collect()
+    }
+
+    /// The glTF asset of a `gltf` shape.
+    pub fn gltf(&self) -> Option<&GltfAsset> {
+        match &self.tessellation {
+            Tessellation::Gltf(a) => Some(a),
+            _ => None,
         }
     }
 
     /// Tessellates shape `index` (its entry `raw`), transforms it to world space and appends
-    /// its triangles with material `material` to `mesh`. Returns the world-space area of the
-    /// appended triangles.
+    /// its triangles with material `material` to `mesh` (a glTF asset's primitives: material
+    /// `material + slot`, or `material` for all when `one_material`). Returns the world-space
+    /// area of the appended triangles.
     pub fn append(
         self,
         src: Source<'_>,
         index: usize,
         raw: &RawShape,
-        material: u32,
+        (material, one_material): (u32, bool),
+        textured: &dyn Fn(u32) -> bool,
         mesh: &mut TriangleMesh,
     ) -> Result<f32, SceneError> {
+        if let Tessellation::Gltf(asset) = &self.tessellation {
+            let mut area = 0.0f32;
+            for (p, node) in &asset.instances {
+                let (g, slot) = &asset.primitives[*p];
+                let m = if one_material { material } else { material + *slot as u32 };
+                let t = self.transform * *node;
+                area += append(g, g.normals.as_deref(), textured(m), &t, m, mesh).map_err(|msg| {
+                    src.error(raw.kind.span(), &format!("shapes[{index}]"), ErrorKind::Degenerate, msg)
+                })?;
+            }
+            return Ok(area);
+        }
         let generated = match &self.tessellation {
             &Tessellation::Sphere { subdivisions, center, radius } => {
                 let mut g = icosphere(subdivisions, self.smooth);
@@ -207,9 +290,12 @@ impl PreparedShape {
             Tessellation::Rectangle => rectangle(),
             Tessellation::Box => cube(),
             &Tessellation::Disk { segments } => disk(segments),
-            Tessellation::Mesh(g) => return self.append_geometry(g, src, index, raw, material, mesh),
+            Tessellation::Mesh(g) => {
+                return self.append_geometry(g, src, index, raw, (material, textured(material)), mesh);
+            }
+            Tessellation::Gltf(_) => return Ok(0.0),
         };
-        self.append_geometry(&generated, src, index, raw, material, mesh)
+        self.append_geometry(&generated, src, index, raw, (material, textured(material)), mesh)
     }
 
     /// Appends `geometry` (without its normals unless the shape is smooth) transformed.
@@ -219,11 +305,11 @@ impl PreparedShape {
         src: Source<'_>,
         index: usize,
         raw: &RawShape,
-        material: u32,
+        (material, uvs): (u32, bool),
         mesh: &mut TriangleMesh,
     ) -> Result<f32, SceneError> {
         let normals = if self.smooth { geometry.normals.as_deref() } else { None };
-        append(geometry, normals, &self.transform, material, mesh)
+        append(geometry, normals, uvs, &self.transform, material, mesh)
             .map_err(|msg| src.error(raw.kind.span(), &format!("shapes[{index}]"), ErrorKind::Degenerate, msg))
     }
 }
@@ -245,6 +331,7 @@ pub(crate) fn prepare(
         ShapeType::Box => ("box", &[]),
         ShapeType::Disk => ("disk", &["segments"]),
         ShapeType::Mesh => ("mesh", &["file", "smooth"]),
+        ShapeType::Gltf => ("gltf", &["file"]),
     };
     let present = [
         ("center", span_of(&raw.center)),
@@ -285,19 +372,34 @@ pub(crate) fn prepare(
                 MeshError::Limit(msg) => src.error(file.span(), &field("file"), ErrorKind::Limit, msg),
             })?)
         }
+        ShapeType::Gltf => {
+            let file = raw.file.as_ref().ok_or_else(|| {
+                src.error(raw.kind.span(), &field("type"), ErrorKind::Conflict, "type \"gltf\" needs `file`")
+            })?;
+            let full = base_dir.join(file.get_ref());
+            let file_error = |kind, msg: String| src.error(file.span(), &field("file"), kind, msg);
+            if !full.exists() {
+                return Err(file_error(ErrorKind::File, format!("glTF file not found: {}", short_path(&full))));
+            }
+            Tessellation::Gltf(budget.gltf(&full).map_err(|e| match e {
+                MeshError::File(msg) => file_error(ErrorKind::File, msg),
+                MeshError::Limit(msg) => file_error(ErrorKind::Limit, msg),
+            })?)
+        }
     };
     let transform = build_transform(src, raw.transform.as_ref(), &path)?;
     Ok(PreparedShape { tessellation, smooth, transform })
 }
 
 /// Transforms `g` by `m` (`normals`, `g`'s or none, by the inverse transpose of its linear
-/// part) and appends it, transforming each triangle's vertices as it goes (no transformed
+/// part; its texture coordinates and tangents when `uvs`, for a textured material) and appends it, transforming each triangle's vertices as it goes (no transformed
 /// copy of the mesh is kept). Returns the appended area, or why the shape does not fit in
 /// `f32`: a vertex or a triangle's area (whose square the renderers compute to normalise its
 /// normal) overflows.
 fn append(
     g: &Geometry,
     normals: Option<&[Vec3]>,
+    uvs: bool,
     m: &Affine3A,
     material: u32,
     mesh: &mut TriangleMesh,
@@ -313,12 +415,25 @@ fn append(
         if !tri.area().is_finite() {
             return Err("the transformed shape is too large for f32: a triangle's area overflows");
         }
-        if let Some(normals) = normals {
-            let n = t.map(|i| (normal_matrix * normals[i as usize]).normalize_or_zero());
-            if n.iter().all(|n| *n != Vec3::ZERO) {
-                tri.normals = mesh.shading_normals.len() as u32;
-                mesh.shading_normals.push(ShadingNormals::new(n));
-            }
+        let uvs = g.uvs.as_deref().filter(|_| uvs).map(|uv| TriangleUvs::new(t.map(|i| uv[i as usize])));
+        let mut n = normals.map(|normals| t.map(|i| (normal_matrix * normals[i as usize]).normalize_or_zero()));
+        if n.is_some_and(|n| n.contains(&Vec3::ZERO)) {
+            n = None;
+        }
+        // Textured triangles keep a record for their coordinates: the flat normal if need be.
+        let n = n.or_else(|| uvs.map(|_| [tri.geometric_normal(); 3]));
+        if let Some(n) = n {
+            let tangents = g.tangents.as_deref().filter(|_| uvs.is_some()).map(|tg| {
+                TriangleTangents::new(t.map(|i| {
+                    let v = tg[i as usize];
+                    let d = m.matrix3 * v.truncate();
+                    let d = d.normalize_or_zero();
+                    d.extend(if v.w < 0.0 { -1.0 } else { 1.0 })
+                }))
+            });
+            tri.normals = mesh
+                .push_attributes(ShadingNormals::new(n), uvs, tangents)
+                .ok_or("the scene has more shading normals than u32 indexes")?;
         }
         area += tri.area();
         mesh.triangles.push(tri);

@@ -69,7 +69,7 @@ impl MaterialRecord {
                 (r.sampling, r.compensation) = (sampling as u32, bsdf.compensation);
             }
             Bsdf::Thin { sheet, transmittance } => (r.kind, r.ior, r.albedo) = (5, sheet.eta, transmittance.to_array()),
-            Bsdf::Black => {}
+            Bsdf::Black | Bsdf::MetalRough { .. } => {}
         }
         r
     }

@@ -55,6 +55,10 @@ const COMPENSATED: &str = "energy compensation (Kulla & Conty's multiple-scatter
     roughconductor is single-scattering; set `energy_compensation = false` in the scene (material or \
     [integrator]) or pass --energy-compensation off";
 
+/// Why the glTF material has no Mitsuba twin.
+const METAL_ROUGH: &str = "Mitsuba 3's principled BSDF is Disney's model, not glTF's Appendix B mix of a Lambertian \
+    and a GGX lobe with Schlick Fresnel, and its textures and normal maps are not exported";
+
 /// `r, g, b` as Mitsuba's `rgb` value (shortest round-trip decimals).
 pub fn rgb(v: Vec3) -> String {
     format!("{}, {}, {}", v.x, v.y, v.z)
@@ -70,6 +74,7 @@ pub fn check(name: &str, material: &Material) -> Result<(), NoTwin> {
         Material::Conductor { fresnel: ConductorFresnel::Schlick { .. }, .. } => refuse("conductor, f0", SCHLICK),
         Material::Conductor { compensate: true, .. } => refuse("conductor, energy compensation on", COMPENSATED),
         Material::Conductor { .. } => Ok(()),
+        Material::MetalRough(_) => refuse("glTF metallic-roughness", METAL_ROUGH),
     }
 }
 
@@ -116,7 +121,10 @@ pub fn write_bsdf(xml: &mut Xml, id: &str, material: &Material) {
             xml.close();
             xml.close();
         }
-        Material::Plastic { .. } | Material::Dielectric { .. } | Material::Emissive { .. } => {}
+        Material::Plastic { .. }
+        | Material::Dielectric { .. }
+        | Material::Emissive { .. }
+        | Material::MetalRough(_) => {}
     }
 }
 

@@ -11,7 +11,7 @@ pub use primitives::{cube, disk, rectangle};
 pub use sphere::icosphere;
 pub(crate) use transform::build_transform;
 
-use glam::Vec3;
+use glam::{Vec2, Vec3, Vec4};
 
 /// An indexed triangle mesh in object space.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -20,6 +20,12 @@ pub struct Geometry {
     pub positions: Vec<Vec3>,
     /// Per-vertex shading normals, parallel to `positions`, when the shape has them.
     pub normals: Option<Vec<Vec3>>,
+    /// Per-vertex texture coordinates (glTF's `TEXCOORD_0`: `(0, 0)` is the image's top-left
+    /// corner), parallel to `positions`.
+    pub uvs: Option<Vec<Vec2>>,
+    /// Per-vertex tangents `(x, y, z, w)` (glTF's `TANGENT`: the bitangent is
+    /// `w (normal x tangent)`), parallel to `positions`.
+    pub tangents: Option<Vec<Vec4>>,
     /// Counter-clockwise triangles (the front face's normal is `(p1 - p0) x (p2 - p0)`).
     pub indices: Vec<[u32; 3]>,
 }
@@ -41,7 +47,9 @@ impl Geometry {
         let vec3 = size_of::<Vec3>() as u64;
         let positions = self.positions.capacity() as u64 * vec3;
         let normals = self.normals.as_ref().map_or(0, |n| n.capacity() as u64 * vec3);
+        let uvs = self.uvs.as_ref().map_or(0, |n| n.capacity() as u64 * size_of::<Vec2>() as u64);
+        let tangents = self.tangents.as_ref().map_or(0, |n| n.capacity() as u64 * size_of::<Vec4>() as u64);
         let indices = self.indices.capacity() as u64 * size_of::<[u32; 3]>() as u64;
-        positions.saturating_add(normals).saturating_add(indices)
+        positions.saturating_add(normals).saturating_add(uvs).saturating_add(tangents).saturating_add(indices)
     }
 }

@@ -61,7 +61,7 @@ fn parse_obj_unchecked(text: &str) -> Result<Geometry, String> {
     let options = tobj::LoadOptions { single_index: true, triangulate: true, ignore_points: true, ignore_lines: true };
     let (models, _) = tobj::load_obj_buf(&mut Cursor::new(text), &options, |_| Err(tobj::LoadError::OpenFileFailed))
         .map_err(|e| format!("invalid OBJ: {e}"))?;
-    let mut g = Geometry { normals: Some(Vec::new()), ..Geometry::default() };
+    let mut g = Geometry { normals: Some(Vec::new()), uvs: Some(Vec::new()), ..Geometry::default() };
     for model in &models {
         let m = &model.mesh;
         let base = g.positions.len();
@@ -78,6 +78,14 @@ fn parse_obj_unchecked(text: &str) -> Result<Geometry, String> {
             }
         } else {
             g.normals = None;
+        }
+        // `vt` has v up the image; ggx's (glTF's) v runs down it.
+        if m.texcoords.len() / 2 == count {
+            if let Some(uv) = &mut g.uvs {
+                uv.extend(m.texcoords.chunks_exact(2).map(|t| glam::Vec2::new(t[0], 1.0 - t[1])));
+            }
+        } else {
+            g.uvs = None;
         }
         for t in m.indices.chunks_exact(3) {
             if let Some(&i) = t.iter().find(|&&i| i as usize >= count) {

@@ -70,7 +70,7 @@ pub fn icosphere(subdivisions: u32, smooth: bool) -> Geometry {
             .collect();
     }
     let normals = smooth.then(|| positions.clone());
-    Geometry { positions, normals, indices }
+    Geometry { positions, normals, indices, ..Geometry::default() }
 }
 
 #[cfg(test)]
