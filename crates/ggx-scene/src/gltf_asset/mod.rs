@@ -162,11 +162,15 @@ pub(crate) fn load(path: &Path, limits: &Limits, textures: &mut TextureSet) -> R
     for mesh in gltf.meshes() {
         for prim in mesh.primitives() {
             let at = format!("meshes[{}].primitives[{}]", mesh.index(), prim.index());
-            let Some(g) =
-                read_primitive(&prim, &buffers, max_elements, &mut warnings).map_err(|e| file(format!("{at}: {e}")))?
-            else {
-                continue;
-            };
+            let mut notes = Vec::new();
+            let read =
+                read_primitive(&prim, &buffers, max_elements, &mut notes).map_err(|e| file(format!("{at}: {e}")))?;
+            for note in notes.into_iter().map(&file) {
+                if !warnings.contains(&note) {
+                    warnings.push(note);
+                }
+            }
+            let Some(g) = read else { continue };
             bytes_used = bytes_used.saturating_add(g.heap_bytes());
             if bytes_used > memory {
                 let msg = format!(
@@ -347,6 +351,12 @@ fn read_primitive(
     if matches!(mode, Mode::Points | Mode::Lines | Mode::LineLoop | Mode::LineStrip) {
         warnings.push(format!("a {mode:?} primitive is skipped (ggx renders surfaces)"));
         return Ok(None);
+    }
+    if prim.get(&Semantic::Colors(0)).is_some() {
+        warnings.push("COLOR_0 vertex colours are ignored (the base colour factor and texture are used)".to_owned());
+    }
+    if prim.morph_targets().len() > 0 {
+        warnings.push("morph targets are ignored (the base shape is rendered)".to_owned());
     }
     let pos = prim.get(&Semantic::Positions).ok_or("no POSITION attribute")?;
     let positions =
