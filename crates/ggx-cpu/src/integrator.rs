@@ -22,7 +22,9 @@ use crate::offset::offset_ray_origin;
 use crate::scene_data::SceneData;
 use ggx_core::mis::power_heuristic;
 use ggx_core::{Frame, SampleStream};
-use ggx_render::{Bsdf, metal_rough_bsdf, normal_map_at, perturb_normal};
+use ggx_render::{
+    Bsdf, anisotropy_direction, metal_rough_bsdf, normal_map_at, perturb_normal, tangent_at, tangent_frame,
+};
 use ggx_scene::{LightStrategy, NO_INDEX, PUNCTUAL_DIRECTIONAL};
 use glam::{Vec2, Vec3};
 
@@ -253,7 +255,21 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
             }
             _ => ng,
         };
-        let frame = shading_frame(ns);
+        let mut frame = shading_frame(ns);
+        if let Some(m) = textured.filter(|m| m.anisotropy != 0.0)
+            && let Some(uvs) = scene.uvs.get(tri.normals as usize)
+        {
+            // KHR_materials_anisotropy: alpha_x along the mesh's tangent turned by the rotation.
+            let tangents = scene.tangents.get(tri.normals as usize);
+            if let Some((t, w)) = tangent_at(ns, tri.vertices(), uvs, tangents, hit.b1, hit.b2)
+                && let Some((t, b)) = tangent_frame(ns, t, w)
+            {
+                let x = anisotropy_direction(t, b, m.anisotropy_rotation);
+                if x != Vec3::ZERO {
+                    frame = Frame { x, y: ns.cross(x), z: ns };
+                }
+            }
+        }
         let wo = frame.to_local(-dir);
         // The shading normal must agree with the geometric side the ray arrives from.
         if !(wo.z * -ng.dot(dir) > 0.0) {

@@ -149,7 +149,7 @@ fn glass_is_bit_identical_for_any_thread_count_and_kernel() {
         let r = renderer
             .render(&RenderOptions { threads, specialize, ..Default::default() }, &RenderControl::default())
             .unwrap();
-        assert_eq!(r.kernel, if specialize { "area+env+dielectric" } else { "area+env+plastic+dielectric" });
+        assert_eq!(r.kernel, if specialize { "area+env+dielectric" } else { "area+env+plastic+dielectric+textures" });
         r.film.mean().iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<u32>>()
     };
     let one = image(1, true);

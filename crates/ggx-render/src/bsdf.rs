@@ -131,7 +131,8 @@ impl Bsdf {
             Material::Emissive { .. } => Bsdf::Black,
             Material::MetalRough(m) => {
                 let a = m.roughness * m.roughness;
-                let brdf = GltfMetalRough::new(m.base_color, m.metallic, a, a, m.ior, m.specular_color, m.specular);
+                let a_t = a + (1.0 - a) * m.anisotropy * m.anisotropy;
+                let brdf = GltfMetalRough::new(m.base_color, m.metallic, a_t, a, m.ior, m.specular_color, m.specular);
                 // The specular lobe's technique; the hemisphere-only ones would sample the
                 // diffuse shape twice: VNDF instead.
                 let sampling = match sampling {

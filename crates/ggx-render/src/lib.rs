@@ -22,4 +22,7 @@ pub use bsdf::{Bsdf, sampling_for};
 pub use interface::{Job, Progress, RenderControl, RenderError, RenderOptions, RenderResult, new_film};
 pub use kernel::KernelVariant;
 pub use schedule::{MAX_PASS_SPP, pass_end, stream_seed, time_budget};
-pub use textured::{emission_at, metal_rough_at, metal_rough_bsdf, normal_map_at, perturb_normal};
+pub use textured::{
+    anisotropy_direction, emission_at, metal_rough_at, metal_rough_bsdf, normal_map_at, perturb_normal, tangent_at,
+    tangent_frame,
+};

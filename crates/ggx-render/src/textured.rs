@@ -10,7 +10,8 @@ use crate::bsdf::Bsdf;
 
 /// The metallic-roughness BRDF of `m` at texture coordinates `uv`: each factor times its
 /// texture (glTF 2.0 spec 3.9.2: base colour RGB, roughness G, metallic B), `alpha =
-/// roughness^2`.
+/// roughness^2`; with anisotropy, `alpha_x = mix(alpha, 1, strength^2)` along the shading
+/// frame's tangent (`KHR_materials_anisotropy`; the caller turns the frame).
 #[inline]
 pub fn metal_rough_at(m: &MetalRough, textures: &TextureSet, uv: Vec2) -> GltfMetalRough {
     let mut base = m.base_color;
@@ -26,7 +27,10 @@ pub fn metal_rough_at(m: &MetalRough, textures: &TextureSet, uv: Vec2) -> GltfMe
         roughness *= textures.sample_channel(&m.roughness_texture, uv);
     }
     let alpha = roughness * roughness;
-    GltfMetalRough::new(base, metallic, alpha, alpha, m.ior, m.specular_color, m.specular)
+    // KHR_materials_anisotropy: alpha_t = mix(alpha, 1, strength^2) along the direction.
+    let s2 = m.anisotropy * m.anisotropy;
+    let alpha_t = alpha + (1.0 - alpha) * s2;
+    GltfMetalRough::new(base, metallic, alpha_t, alpha, m.ior, m.specular_color, m.specular)
 }
 
 /// [`metal_rough_at`] as a ggx-render [`Bsdf`].
@@ -57,11 +61,53 @@ pub fn emission_at(m: &MetalRough, textures: &TextureSet, uv: Vec2) -> Vec3 {
     }
 }
 
-/// `n` bent by the tangent-space normal `nt`: `normalize(nt.x T + nt.y B + nt.z n)` with the
-/// tangent `T` (the mesh's, interpolated, or `dp/du` of the triangle) made orthogonal to `n`,
-/// and `B = w (n x T)`, `w` the tangent's sign (glTF's TANGENT) or, from the coordinates, the
-/// sign that makes `B` follow `-dp/dv` (glTF's `v` runs down the image, the map's +Y up).
-/// `n` unchanged when no tangent can be found.
+/// The tangent at barycentrics `(b1, b2)` and the bitangent's sign `w` (`B = w (n x T)`): the
+/// mesh's tangent (glTF's TANGENT), interpolated, or `dp/du` of the triangle with the sign
+/// that makes `B` follow `-dp/dv` (glTF's `v` runs down the image, a normal map's +Y up).
+/// `None` when the coordinates are degenerate. Not yet orthogonal to any normal.
+#[inline]
+pub fn tangent_at(
+    n: Vec3,
+    vertices: [Vec3; 3],
+    uvs: &TriangleUvs,
+    tangents: Option<&TriangleTangents>,
+    b1: f32,
+    b2: f32,
+) -> Option<(Vec3, f32)> {
+    match tangents.filter(|t| t.tangents[0][3] != 0.0) {
+        Some(tg) => {
+            let v = |i: usize| Vec3::new(tg.tangents[i][0], tg.tangents[i][1], tg.tangents[i][2]);
+            let t = (1.0 - b1 - b2) * v(0) + b1 * v(1) + b2 * v(2);
+            Some((t, if tg.tangents[0][3] < 0.0 { -1.0 } else { 1.0 }))
+        }
+        None => {
+            let (dp1, dp2) = (vertices[1] - vertices[0], vertices[2] - vertices[0]);
+            let (d1, d2) = (uvs.at(1) - uvs.at(0), uvs.at(2) - uvs.at(0));
+            let det = d1.x * d2.y - d2.x * d1.y;
+            if !(det.abs() > 1e-20) {
+                return None;
+            }
+            let dpdu = (dp1 * d2.y - dp2 * d1.y) / det;
+            let dpdv = (dp2 * d1.x - dp1 * d2.x) / det;
+            let w = if n.cross(dpdu).dot(-dpdv) < 0.0 { -1.0 } else { 1.0 };
+            Some((dpdu, w))
+        }
+    }
+}
+
+/// The orthonormal tangent frame `(T, B)` around the unit normal `n` from [`tangent_at`]'s
+/// tangent `t` and sign `w`: `T` is `t` made orthogonal to `n`, `B = w (n x T)`.
+#[inline]
+pub fn tangent_frame(n: Vec3, t: Vec3, w: f32) -> Option<(Vec3, Vec3)> {
+    let t = (t - n * n.dot(t)).normalize_or_zero();
+    if t == Vec3::ZERO || !t.is_finite() {
+        return None;
+    }
+    Some((t, n.cross(t) * w))
+}
+
+/// `n` bent by the tangent-space normal `nt`: `normalize(nt.x T + nt.y B + nt.z n)` in the
+/// [`tangent_frame`] of [`tangent_at`]; `n` unchanged when no tangent can be found.
 #[inline]
 pub fn perturb_normal(
     n: Vec3,
@@ -72,32 +118,18 @@ pub fn perturb_normal(
     b1: f32,
     b2: f32,
 ) -> Vec3 {
-    let (t, w) = match tangents.filter(|t| t.tangents[0][3] != 0.0) {
-        Some(tg) => {
-            let v = |i: usize| Vec3::new(tg.tangents[i][0], tg.tangents[i][1], tg.tangents[i][2]);
-            let t = (1.0 - b1 - b2) * v(0) + b1 * v(1) + b2 * v(2);
-            (t, if tg.tangents[0][3] < 0.0 { -1.0 } else { 1.0 })
-        }
-        None => {
-            let (dp1, dp2) = (vertices[1] - vertices[0], vertices[2] - vertices[0]);
-            let (d1, d2) = (uvs.at(1) - uvs.at(0), uvs.at(2) - uvs.at(0));
-            let det = d1.x * d2.y - d2.x * d1.y;
-            if !(det.abs() > 1e-20) {
-                return n;
-            }
-            let dpdu = (dp1 * d2.y - dp2 * d1.y) / det;
-            let dpdv = (dp2 * d1.x - dp1 * d2.x) / det;
-            let w = if n.cross(dpdu).dot(-dpdv) < 0.0 { -1.0 } else { 1.0 };
-            (dpdu, w)
-        }
-    };
-    let t = (t - n * n.dot(t)).normalize_or_zero();
-    if t == Vec3::ZERO || !t.is_finite() {
-        return n;
-    }
-    let b = n.cross(t) * w;
+    let Some((t, w)) = tangent_at(n, vertices, uvs, tangents, b1, b2) else { return n };
+    let Some((t, b)) = tangent_frame(n, t, w) else { return n };
     let bent = (t * nt.x + b * nt.y + n * nt.z).normalize_or_zero();
     if bent == Vec3::ZERO || !bent.is_finite() { n } else { bent }
+}
+
+/// `KHR_materials_anisotropy`'s direction: the tangent frame's `T` turned by `rotation`
+/// radians toward `B` (`cos r T + sin r B`), the GGX `alpha_x` axis.
+#[inline]
+pub fn anisotropy_direction(t: Vec3, b: Vec3, rotation: f32) -> Vec3 {
+    let (s, c) = rotation.sin_cos();
+    (t * c + b * s).normalize_or_zero()
 }
 
 #[cfg(test)]
@@ -134,6 +166,16 @@ mod tests {
         // Degenerate coordinates: unchanged.
         let flat = TriangleUvs::new([Vec2::ZERO; 3]);
         assert_eq!(perturb_normal(n, Vec3::new(0.6, 0.0, 0.8), TRI, &flat, None, 0.2, 0.2), n);
+    }
+
+    #[test]
+    fn anisotropy_turns_the_tangent_and_widens_alpha_along_it() {
+        let d = anisotropy_direction(Vec3::X, Vec3::Y, std::f32::consts::FRAC_PI_2);
+        assert!((d - Vec3::Y).length() < 1e-6, "{d}");
+        let m = MetalRough { roughness: 0.5, anisotropy: 0.5, ..MetalRough::default() };
+        let b = metal_rough_at(&m, &TextureSet::default(), Vec2::ZERO);
+        // alpha = 0.25; alpha_t = 0.25 + 0.75 * 0.25.
+        assert_eq!(b, GltfMetalRough::new(Vec3::ONE, 1.0, 0.4375, 0.25, 1.5, Vec3::ONE, 1.0));
     }
 
     #[test]

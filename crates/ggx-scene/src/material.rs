@@ -203,6 +203,12 @@ pub struct MetalRough {
     pub specular: f32,
     /// Specular colour (`specularColorFactor`, default 1).
     pub specular_color: Vec3,
+    /// `KHR_materials_anisotropy`'s strength in [0, 1] (0: isotropic): the GGX alpha along the
+    /// anisotropy direction is `mix(alpha, 1, strength^2)`.
+    pub anisotropy: f32,
+    /// The anisotropy direction: radians counter-clockwise from the mesh's tangent (toward the
+    /// bitangent).
+    pub anisotropy_rotation: f32,
 }
 
 impl Default for MetalRough {
@@ -221,17 +227,21 @@ impl Default for MetalRough {
             ior: 1.5,
             specular: 1.0,
             specular_color: Vec3::ONE,
+            anisotropy: 0.0,
+            anisotropy_rotation: 0.0,
         }
     }
 }
 
 impl MetalRough {
-    /// True when some parameter is read from a texture (the renderers then build the BSDF at
-    /// each shading point).
+    /// True when the BSDF depends on the shading point: some parameter is read from a
+    /// texture, or the anisotropy follows the mesh's tangents (the renderers then build the
+    /// BSDF and its frame at each shading point).
     pub fn is_textured(&self) -> bool {
         [self.base_color_texture, self.metallic_texture, self.roughness_texture, self.normal_texture]
             .iter()
             .any(TextureRef::is_some)
+            || self.anisotropy != 0.0
     }
 
     /// True when the emission is textured.

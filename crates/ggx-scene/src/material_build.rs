@@ -349,5 +349,7 @@ fn metal_rough(
         ior,
         specular,
         specular_color: Vec3::ONE,
+        anisotropy: 0.0,
+        anisotropy_rotation: 0.0,
     }))
 }

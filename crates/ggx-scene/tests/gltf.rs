@@ -286,6 +286,18 @@ fn broken_files_get_errors_that_name_the_file_and_the_json_path() {
     let s = broken("sheet.gltf", glass(false)).unwrap();
     assert!(matches!(s.materials[0], Material::Dielectric { thin: true, .. }), "{:?}", s.materials[0]);
     assert!(s.warnings().iter().any(|w| w.contains("smooth thin sheet")), "{:?}", s.warnings());
+    // Anisotropy: strength and rotation from the extension's JSON.
+    let s = broken("aniso.gltf", |j| {
+        j["materials"] = serde_json::json!([{
+            "extensions": { "KHR_materials_anisotropy": { "anisotropyStrength": 0.6, "anisotropyRotation": 1.25 } }
+        }]);
+        j["meshes"][0]["primitives"][0]["material"] = 0.into();
+        j["extensionsUsed"] = serde_json::json!(["KHR_materials_anisotropy"]);
+    })
+    .unwrap();
+    let Material::MetalRough(m) = s.materials[0] else { panic!("{:?}", s.materials[0]) };
+    assert_eq!((m.anisotropy, m.anisotropy_rotation), (0.6, 1.25));
+    assert!(m.is_textured() && s.features.textures, "anisotropy follows the mesh's tangents at each point");
     // Not glTF at all.
     let e = broken("json.gltf", |j| *j = serde_json::json!([1, 2])).unwrap_err().to_string();
     assert!(e.contains("json.gltf: invalid glTF"), "{e}");

@@ -194,6 +194,7 @@ pub(crate) fn convert(
         unit(t.transmission_factor(), 0.0)
     });
     let roughness = unit(pbr.roughness_factor(), 1.0);
+    let (anisotropy, anisotropy_rotation) = anisotropy(m, &mut notes);
     if let Some(t) = transmission.filter(|t| *t > 0.0) {
         let base = Vec3::new(unit(r, 1.0), unit(g, 1.0), unit(b, 1.0));
         let material = transmissive(m, t, base, roughness, ior, &mut notes);
@@ -215,7 +216,20 @@ pub(crate) fn convert(
         ior,
         specular,
         specular_color,
+        anisotropy,
+        anisotropy_rotation,
     }))
+}
+
+/// `KHR_materials_anisotropy` (strength, rotation) from the material's extension JSON (the
+/// gltf crate 1.4 has no typed accessor for it); its texture is not read (a note says so).
+fn anisotropy(m: &gltf::Material<'_>, notes: &mut Vec<String>) -> (f32, f32) {
+    let Some(ext) = m.extensions().and_then(|e| e.get("KHR_materials_anisotropy")) else { return (0.0, 0.0) };
+    let number = |key: &str| ext.get(key).and_then(|v| v.as_f64()).map(|v| v as f32).filter(|v| v.is_finite());
+    if ext.get("anisotropyTexture").is_some() {
+        notes.push("the anisotropy texture is ignored (strength and rotation are used)".to_owned());
+    }
+    (unit(number("anisotropyStrength").unwrap_or(0.0), 0.0), number("anisotropyRotation").unwrap_or(0.0))
 }
 
 /// A material with `KHR_materials_transmission` (factor `t > 0`) as ggx's dielectric: with
