@@ -1,5 +1,5 @@
 //! [`SceneTables`] uploaded: storage buffers, the bind group, and one compute pipeline per
-//! kernel variant (`AREA`, `ENV`, `PLASTIC`, `DIELECTRIC` override constants, ggx-render's
+//! kernel variant (`AREA`, `ENV`, `PLASTIC`, `DIELECTRIC`, `TEXTURES` override constants, ggx-render's
 //! [`KernelVariant`]), built on first use.
 
 use crate::context::{GpuContext, GpuError};
@@ -60,6 +60,7 @@ impl GpuScene {
         let (nodes, triangles) = (tables.nodes(), tables.triangles());
         let (normals, materials) = (non_empty(&tables.normals), non_empty(&tables.materials));
         let (emitters, table) = (non_empty(&tables.emitters), non_empty(&tables.table));
+        let surface = non_empty(&tables.surface);
         let sizes = [
             ("BVH nodes", size_of_val(nodes.as_slice()) as u64),
             ("triangles", size_of_val(triangles.as_slice()) as u64),
@@ -67,9 +68,19 @@ impl GpuScene {
             ("materials", size_of_val(materials.as_slice()) as u64),
             ("emitters", size_of_val(emitters.as_slice()) as u64),
             ("light and environment tables", size_of_val(table.as_slice()) as u64),
+            ("textures and texture coordinates", size_of_val(surface.as_slice()) as u64),
             ("image", output_size),
         ];
         check_buffer_sizes(ctx, &sizes)?;
+        // Offsets into `surface` are u32 words.
+        if surface.len() as u64 > u64::from(u32::MAX) {
+            let bytes = size_of_val(surface.as_slice()) as u64;
+            return Err(GpuError::TooLarge {
+                what: "textures and texture coordinates",
+                bytes,
+                limit: 4 * u64::from(u32::MAX),
+            });
+        }
         checked(device, || {
             let source = path_tracer_wgsl();
             let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -94,6 +105,7 @@ impl GpuScene {
                     storage(5),
                     storage(6),
                     entry(7, wgpu::BufferBindingType::Storage { read_only: false }),
+                    storage(8),
                 ],
             });
             let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -114,6 +126,7 @@ impl GpuScene {
             let materials = init("materials", bytemuck::cast_slice(&materials));
             let emitters = init("emitters", bytemuck::cast_slice(&emitters));
             let table = init("tables", bytemuck::cast_slice(&table));
+            let surface = init("surface", bytemuck::cast_slice(&surface));
             let params = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("params"),
                 size: size_of::<Params>() as u64,
@@ -130,7 +143,7 @@ impl GpuScene {
             };
             let output = buffer("radiance sums", wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC);
             let readback = buffer("radiance readback", wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);
-            let buffers = [&params, &nodes, &triangles, &normals, &materials, &emitters, &table, &output];
+            let buffers = [&params, &nodes, &triangles, &normals, &materials, &emitters, &table, &output, &surface];
             let entries: Vec<wgpu::BindGroupEntry> = buffers
                 .iter()
                 .enumerate()
@@ -165,6 +178,7 @@ impl GpuScene {
             ("ENV", f64::from(u8::from(variant.env))),
             ("PLASTIC", f64::from(u8::from(variant.plastic))),
             ("DIELECTRIC", f64::from(u8::from(variant.dielectric))),
+            ("TEXTURES", f64::from(u8::from(variant.textures))),
         ];
         let pipeline = checked(ctx.device(), || {
             ctx.device().create_compute_pipeline(&wgpu::ComputePipelineDescriptor {

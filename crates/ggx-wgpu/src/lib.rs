@@ -134,8 +134,8 @@ mod tests {
     fn path_tracer_layouts_match_the_rust_pod_structs() {
         use crate::bvh_flat::BvhNode;
         use crate::scene_upload::{MaterialRecord, Params};
-        use ggx_core::{GgxConductorMs, GgxDielectricMs};
-        use ggx_scene::{Emitter, ShadingNormals, Triangle};
+        use ggx_core::{GgxConductorMs, GgxDielectricMs, GltfMetalRough};
+        use ggx_scene::{Emitter, ShadingNormals, TextureInfo, Triangle};
         let module = parse(&path_tracer_wgsl());
         assert_layout!(&module, BvhNode, min, prim_count, max, first_index);
         assert_layout!(&module, Triangle, v0, material, v1, normals, v2, emitter);
@@ -152,9 +152,9 @@ mod tests {
             ("extra", core::mem::offset_of!(MaterialRecord, extra)),
             ("sampling", core::mem::offset_of!(MaterialRecord, sampling)),
             ("compensation", core::mem::offset_of!(MaterialRecord, compensation)),
-            ("pad0", core::mem::offset_of!(MaterialRecord, pad0)),
-            ("pad1", core::mem::offset_of!(MaterialRecord, pad1)),
-            ("pad2", core::mem::offset_of!(MaterialRecord, pad2)),
+            ("surface", core::mem::offset_of!(MaterialRecord, surface)),
+            ("specular_weight", core::mem::offset_of!(MaterialRecord, specular_weight)),
+            ("p_specular", core::mem::offset_of!(MaterialRecord, p_specular)),
         ]
         .map(|(n, o)| (n.to_string(), o as u32));
         assert_eq!(members, rust, "members of Material");
@@ -196,10 +196,68 @@ mod tests {
             env_texels,
             env_marginal_integral,
             energy_tables,
+            uvs,
+            uv_count,
+            tangents,
+            tangent_count,
+            texture_infos,
+            texture_count,
+            texture_unorm,
+            texture_words,
             pad1
+        );
+        assert_eq!(size_of::<Params>(), 240);
+        assert_eq!(size_of::<MaterialRecord>(), 128);
+        assert_eq!(size_of::<crate::scene_upload::MetalRoughRecord>(), 56 * 4);
+        assert_layout!(&module, TextureInfo, offset, width, height, flags);
+        assert_layout!(
+            &module,
+            GltfMetalRough,
+            base_color,
+            metallic,
+            f0,
+            specular_weight,
+            distribution,
+            p_specular,
+            pad
         );
         assert_layout!(&module, GgxConductorMs, conductor, f_avg, compensation);
         assert_layout!(&module, GgxDielectricMs, dielectric, compensation, pad);
+    }
+
+    /// `path_tracer.wgsl`'s `MR_*` word offsets are those of [`MetalRoughRecord`]'s fields.
+    ///
+    /// [`MetalRoughRecord`]: crate::scene_upload::MetalRoughRecord
+    #[test]
+    fn metal_rough_record_offsets_match_the_shader() {
+        use crate::scene_upload::MetalRoughRecord;
+        let source = include_str!("shaders/path_tracer.wgsl");
+        let constant = |name: &str| -> usize {
+            let key = format!("const {name}: u32 = ");
+            let rest = &source[source.find(&key).unwrap_or_else(|| panic!("{key}")) + key.len()..];
+            rest[..rest.find('u').unwrap()].parse().unwrap()
+        };
+        macro_rules! check {
+            ($($name:literal => $field:ident),+ $(,)?) => {$(
+                assert_eq!(constant($name) * 4, core::mem::offset_of!(MetalRoughRecord, $field), $name);
+            )+};
+        }
+        check!(
+            "MR_BASE_COLOR" => base_color,
+            "MR_METALLIC" => metallic,
+            "MR_EMISSION" => emission,
+            "MR_ROUGHNESS" => roughness,
+            "MR_SPECULAR_COLOR" => specular_color,
+            "MR_SPECULAR" => specular,
+            "MR_IOR" => ior,
+            "MR_NORMAL_SCALE" => normal_scale,
+            "MR_BASE_COLOR_TEXTURE" => base_color_texture,
+            "MR_METALLIC_TEXTURE" => metallic_texture,
+            "MR_ROUGHNESS_TEXTURE" => roughness_texture,
+            "MR_NORMAL_TEXTURE" => normal_texture,
+            "MR_EMISSION_TEXTURE" => emission_texture,
+        );
+        assert_eq!(size_of::<ggx_scene::TextureRef>(), 32, "load_texture_ref reads 8 words");
     }
 
     /// `energy.wgsl`'s table offsets and dims are those of the tables the upload appends.

@@ -1,12 +1,30 @@
 //! The scene as the flat, `bytemuck::Pod` tables `path_tracer.wgsl` reads: BVH nodes and
 //! leaf-order triangles, shading normals, materials (ggx-render's precomputed [`Bsdf`]s), emitters,
-//! one `f32` table for the light and environment CDFs and texels, and the [`Params`] uniform.
+//! one `f32` table for the light and environment CDFs and texels, one `u32` table for what
+//! textured materials read at a hit ([`SceneTables::surface`]), and the [`Params`] uniform.
+//!
+//! The `surface` table (binding 8, WGSL `surface: array<u32>`, `f32` read with `bitcast`) holds,
+//! only when some material is textured (else one zero word):
+//!
+//! | section | offset | words |
+//! |---|---|---|
+//! | [`MetalRoughRecord`]s of the textured materials | [`MaterialRecord::surface`] | 56 each |
+//! | [`TriangleUvs`], parallel to the shading normals | [`Params::uvs`] | 8 x [`Params::uv_count`] |
+//! | [`TriangleTangents`], parallel to the shading normals | [`Params::tangents`] | 12 x [`Params::tangent_count`] |
+//! | [`TextureInfo`]s | [`Params::texture_infos`] | 4 x [`Params::texture_count`] |
+//! | `i / 255` for `i` in `0..256` (8-bit channels, the CPU's `b as f32 / 255.0`) | [`Params::texture_unorm`] | 256 |
+//! | [`TextureSet::words`] (sRGB table, then texels), last | [`Params::texture_words`] | the rest |
 
 use crate::bvh_flat::{BvhNode, EMPTY_TREE, FlatBvh};
 use bytemuck::{Pod, Zeroable};
 use ggx_core::GgxConductor;
 use ggx_render::{Bsdf, stream_seed};
-use ggx_scene::{Emitter, Environment, LightStrategy, SamplerKind, Scene, ShadingNormals, Triangle};
+use ggx_scene::{
+    Emitter, Environment, LightStrategy, Material, MetalRough, NO_INDEX, SamplerKind, Scene, ShadingNormals,
+    TextureRef, TextureSet, Triangle,
+};
+#[cfg(doc)]
+use ggx_scene::{TextureInfo, TriangleTangents, TriangleUvs};
 use glam::{Quat, Vec3};
 
 /// A material as the shader shades it, 128 bytes (WGSL `Material`).
@@ -19,6 +37,14 @@ use glam::{Quat, Vec3};
 /// | `MAT_BLACK` 3 | - | - | - | - | - |
 /// | `MAT_DIELECTRIC` 4 | alphas in `distribution` | transmittance | eta | absorption | energy scale on |
 /// | `MAT_THIN` 5 | - | transmittance | eta | - | - |
+/// | `MAT_METAL_ROUGH` 6 | alphas in `distribution` | base colour | metallic | `f0` | - |
+///
+/// `MAT_METAL_ROUGH` is ggx-core's `GltfMetalRough` of the material's factors (ggx-render's
+/// `Bsdf::MetalRough`): `base_color` in `albedo`, `metallic` in `ior`, `f0` in `extra`,
+/// `specular_weight` and `p_specular` in the fields of those names, the alphas in
+/// `conductor.distribution`. A material whose parameters, normal or emission read a texture
+/// also has `surface`, the offset of its [`MetalRoughRecord`] in [`SceneTables::surface`]
+/// (else [`NO_INDEX`]), from which the kernel with `TEXTURES` builds the BRDF at each hit.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct MaterialRecord {
@@ -38,12 +64,13 @@ pub struct MaterialRecord {
     pub sampling: u32,
     /// Non-zero: energy compensation on (see the table).
     pub compensation: u32,
-    /// Padding.
-    pub pad0: u32,
-    /// Padding.
-    pub pad1: u32,
-    /// Padding.
-    pub pad2: u32,
+    /// Offset of a textured metal-rough material's [`MetalRoughRecord`] in
+    /// [`SceneTables::surface`], [`NO_INDEX`] for every other material.
+    pub surface: u32,
+    /// `GltfMetalRough::specular_weight` of a metal-rough material.
+    pub specular_weight: f32,
+    /// `GltfMetalRough::p_specular` of a metal-rough material.
+    pub p_specular: f32,
 }
 
 impl MaterialRecord {
@@ -52,6 +79,7 @@ impl MaterialRecord {
         let mut r = MaterialRecord::zeroed();
         r.emission = emission.to_array();
         r.kind = 3;
+        r.surface = NO_INDEX;
         match *bsdf {
             Bsdf::Diffuse { albedo } => (r.kind, r.albedo) = (0, albedo.to_array()),
             Bsdf::Conductor { brdf, sampling } => {
@@ -69,13 +97,97 @@ impl MaterialRecord {
                 (r.sampling, r.compensation) = (sampling as u32, bsdf.compensation);
             }
             Bsdf::Thin { sheet, transmittance } => (r.kind, r.ior, r.albedo) = (5, sheet.eta, transmittance.to_array()),
-            Bsdf::Black | Bsdf::MetalRough { .. } => {}
+            Bsdf::MetalRough { brdf, sampling } => {
+                (r.kind, r.albedo, r.ior, r.extra) = (6, brdf.base_color, brdf.metallic, brdf.f0);
+                (r.specular_weight, r.p_specular) = (brdf.specular_weight, brdf.p_specular);
+                (r.conductor.distribution, r.sampling) = (brdf.distribution, sampling as u32);
+            }
+            Bsdf::Black => {}
         }
         r
     }
 }
 
-/// Per-dispatch uniform (WGSL `Params`), 208 bytes.
+/// A textured metal-rough material as the shader reads it from [`SceneTables::surface`]
+/// (ggx-scene's [`MetalRough`]; `path_tracer.wgsl` reads each field at its `MR_*` word offset),
+/// 224 bytes = 56 words.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct MetalRoughRecord {
+    /// Base colour factor.
+    pub base_color: [f32; 3],
+    /// Metallic factor.
+    pub metallic: f32,
+    /// Emitted radiance factor.
+    pub emission: [f32; 3],
+    /// Perceptual roughness factor.
+    pub roughness: f32,
+    /// Specular colour.
+    pub specular_color: [f32; 3],
+    /// Specular weight.
+    pub specular: f32,
+    /// Index of refraction.
+    pub ior: f32,
+    /// Scale of the normal map's X and Y.
+    pub normal_scale: f32,
+    /// Padding.
+    pub pad: [u32; 2],
+    /// Base colour texture (words 16..24).
+    pub base_color_texture: TextureRef,
+    /// Metallic texture (words 24..32).
+    pub metallic_texture: TextureRef,
+    /// Roughness texture (words 32..40).
+    pub roughness_texture: TextureRef,
+    /// Normal map (words 40..48).
+    pub normal_texture: TextureRef,
+    /// Emission texture (words 48..56).
+    pub emission_texture: TextureRef,
+}
+
+impl MetalRoughRecord {
+    /// The record of `m`.
+    pub fn new(m: &MetalRough) -> MetalRoughRecord {
+        MetalRoughRecord {
+            base_color: m.base_color.to_array(),
+            metallic: m.metallic,
+            emission: m.emission.to_array(),
+            roughness: m.roughness,
+            specular_color: m.specular_color.to_array(),
+            specular: m.specular,
+            ior: m.ior,
+            normal_scale: m.normal_scale,
+            pad: [0; 2],
+            base_color_texture: m.base_color_texture,
+            metallic_texture: m.metallic_texture,
+            roughness_texture: m.roughness_texture,
+            normal_texture: m.normal_texture,
+            emission_texture: m.emission_texture,
+        }
+    }
+}
+
+/// The material `m` when the renderers look it up at each hit (ggx-cpu's
+/// `SceneData::textured`): a metal-rough material whose parameters, normal or emission read a
+/// texture.
+pub fn textured(m: &Material) -> Option<&MetalRough> {
+    match m {
+        Material::MetalRough(r) if r.is_textured() || r.has_emission_texture() => Some(r),
+        _ => None,
+    }
+}
+
+/// Appends `textures` to `surface` as the shader reads them (the texture infos, the `i / 255`
+/// table, then the word table, which stays last so that a word index past the end reads 0 as on
+/// the CPU) and sets their offsets in `params`.
+pub fn push_textures(surface: &mut Vec<u32>, textures: &TextureSet, params: &mut Params) {
+    params.texture_count = textures.infos.len() as u32;
+    params.texture_infos = push_words(surface, bytemuck::cast_slice(&textures.infos));
+    let unorm: Vec<u32> = (0..=255u8).map(|b| (f32::from(b) / 255.0).to_bits()).collect();
+    params.texture_unorm = push_words(surface, &unorm);
+    params.texture_words = push_words(surface, &textures.words);
+}
+
+/// Per-dispatch uniform (WGSL `Params`), 240 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct Params {
@@ -150,6 +262,22 @@ pub struct Params {
     /// Offset of ggx-core's energy-compensation tables ([`energy_tables`]) in the table;
     /// unused (0) when no material is compensated.
     pub energy_tables: u32,
+    /// Offset (words) of the texture coordinates in [`SceneTables::surface`].
+    pub uvs: u32,
+    /// Number of texture-coordinate records (0: none).
+    pub uv_count: u32,
+    /// Offset (words) of the tangents in [`SceneTables::surface`].
+    pub tangents: u32,
+    /// Number of tangent records (0: none).
+    pub tangent_count: u32,
+    /// Offset (words) of the texture infos in [`SceneTables::surface`].
+    pub texture_infos: u32,
+    /// Number of textures.
+    pub texture_count: u32,
+    /// Offset (words) of the 256 values `i / 255` in [`SceneTables::surface`].
+    pub texture_unorm: u32,
+    /// Offset (words) of the texture word table (sRGB table first) in [`SceneTables::surface`].
+    pub texture_words: u32,
     /// Padding.
     pub pad1: u32,
 }
@@ -166,6 +294,9 @@ pub struct SceneTables {
     pub emitters: Vec<Emitter>,
     /// Light CDF, environment tables and texels.
     pub table: Vec<f32>,
+    /// Textured materials, texture coordinates, tangents and textures (see the module docs);
+    /// empty when no material is textured.
+    pub surface: Vec<u32>,
     /// The uniform, `y0`, `rows`, `s0`, `s1` left zero.
     pub params: Params,
 }
@@ -176,7 +307,14 @@ impl SceneTables {
         let bvh = FlatBvh::build(&scene.mesh.triangles);
         let strategy = scene.integrator.bsdf_sampling;
         let bsdfs: Vec<Bsdf> = scene.materials.iter().map(|m| Bsdf::new(m, strategy)).collect();
-        let materials = bsdfs.iter().zip(&scene.materials).map(|(b, m)| MaterialRecord::new(b, m.emission())).collect();
+        let mut materials: Vec<MaterialRecord> =
+            bsdfs.iter().zip(&scene.materials).map(|(b, m)| MaterialRecord::new(b, m.emission())).collect();
+        let mut surface = Vec::new();
+        for (record, material) in materials.iter_mut().zip(&scene.materials) {
+            if let Some(m) = textured(material) {
+                record.surface = push_words(&mut surface, bytemuck::cast_slice(&[MetalRoughRecord::new(m)]));
+            }
+        }
         let mut leaf_of = vec![u32::MAX; scene.mesh.triangles.len()];
         for (leaf, &t) in bvh.primitive_to_triangle.iter().enumerate().rev() {
             if let Some(slot) = leaf_of.get_mut(t as usize) {
@@ -245,7 +383,15 @@ impl SceneTables {
                 table.extend_from_slice(t);
             }
         }
-        SceneTables { bvh, normals: scene.mesh.shading_normals.clone(), materials, emitters, table, params }
+        if !surface.is_empty() {
+            let mesh = &scene.mesh;
+            (params.uvs, params.uv_count) =
+                (push_words(&mut surface, bytemuck::cast_slice(&mesh.uvs)), count(&mesh.uvs));
+            params.tangents = push_words(&mut surface, bytemuck::cast_slice(&mesh.tangents));
+            params.tangent_count = count(&mesh.tangents);
+            push_textures(&mut surface, &scene.textures, &mut params);
+        }
+        SceneTables { bvh, normals: scene.mesh.shading_normals.clone(), materials, emitters, table, surface, params }
     }
 
     /// The nodes, never empty: an empty scene gets [`EMPTY_TREE`], which the traversal
@@ -284,6 +430,19 @@ fn push(table: &mut Vec<f32>, values: &[f32]) -> u32 {
     let offset = table.len() as u32;
     table.extend_from_slice(values);
     offset
+}
+
+/// `words` appended to `surface`; returns their offset (saturated: a table past `u32` words is
+/// refused by the buffer size check before it is used).
+fn push_words(surface: &mut Vec<u32>, words: &[u32]) -> u32 {
+    let offset = u32::try_from(surface.len()).unwrap_or(u32::MAX);
+    surface.extend_from_slice(words);
+    offset
+}
+
+/// `values.len()` as `u32` (saturated).
+fn count<T>(values: &[T]) -> u32 {
+    u32::try_from(values.len()).unwrap_or(u32::MAX)
 }
 
 /// `values`, or one zeroed record when empty (bindings cannot be empty).

@@ -152,7 +152,7 @@ fn generic_kernel_cancel_and_progress() {
     let specialized = renderer.render(&RenderOptions::default(), &control).expect("render");
     let generic =
         renderer.render(&RenderOptions { specialize: false, ..Default::default() }, &control).expect("render");
-    assert_eq!(generic.kernel, "area+env+plastic+dielectric");
+    assert_eq!(generic.kernel, ggx_wgpu::KernelVariant::ALL.name());
     assert_ne!(specialized.kernel, generic.kernel);
     let bits = |r: &ggx_cpu::RenderResult| {
         r.film.mean().iter().flat_map(|v| v.to_array()).map(f32::to_bits).collect::<Vec<_>>()
@@ -237,4 +237,396 @@ fn ranges_windows_and_resumes_on_the_gpu() {
     ragged.pixels_mut()[3] = ggx_film::SampleSum::default();
     let err = renderer.render_film(&options, &control, ragged).err().expect("refused").to_string();
     assert!(err.contains("the GPU continues only films whose window rows are uniform"), "{err}");
+}
+
+/// A glTF scene built for the textured path: every metal-rough feature the GPU mirrors, in one
+/// image (written to a temporary directory: the glTF, its `.bin` and its PNGs).
+///
+/// * floor: sRGB 8-bit base colour (repeat, bilinear, coordinates from -1 to 2), a
+///   `metallicRoughnessTexture` (roughness G, metallic B; mirrored S, clamped T) and a normal
+///   map (scale 0.7) without mesh tangents (`dp/du` from the coordinates);
+/// * back wall: a 16-bit base colour (float texels; nearest, mirrored repeat) under a
+///   `KHR_texture_transform`, the normal map with mesh tangents (`TANGENT`, `w = -1`);
+/// * textured sphere: base colour (nearest, clamp to edge) and normal map on a curved mesh
+///   whose poles have degenerate coordinates;
+/// * lamp: emission factor 6 (`KHR_materials_emissive_strength`) times an sRGB emission
+///   texture, which both emits (hit and next-event estimation) and reflects;
+/// * untextured metal-rough spheres: a rough gold metal and a half-metallic mirror lobe
+///   (roughness 0.02: a delta specular sample over a diffuse base);
+/// * a constant environment.
+mod textured_scene {
+    use std::path::Path;
+
+    /// PNG (RGBA, 8 or 16 bits per channel, stored deflate blocks) of `pixel(x, y)`, channel
+    /// values in `0..=255` or `0..=65535`.
+    pub fn png(width: u32, height: u32, sixteen: bool, pixel: impl Fn(u32, u32) -> [u16; 4]) -> Vec<u8> {
+        let mut raw = Vec::new();
+        for y in 0..height {
+            raw.push(0u8);
+            for x in 0..width {
+                for c in pixel(x, y) {
+                    if sixteen {
+                        raw.extend_from_slice(&c.to_be_bytes());
+                    } else {
+                        raw.push(c as u8);
+                    }
+                }
+            }
+        }
+        let mut zlib = vec![0x78, 0x01];
+        let blocks: Vec<&[u8]> = raw.chunks(65535).collect();
+        for (i, block) in blocks.iter().enumerate() {
+            zlib.push(u8::from(i + 1 == blocks.len()));
+            let len = block.len() as u16;
+            zlib.extend_from_slice(&len.to_le_bytes());
+            zlib.extend_from_slice(&(!len).to_le_bytes());
+            zlib.extend_from_slice(block);
+        }
+        let (mut a, mut b) = (1u32, 0u32);
+        for &byte in &raw {
+            a = (a + u32::from(byte)) % 65521;
+            b = (b + a) % 65521;
+        }
+        zlib.extend_from_slice(&((b << 16) | a).to_be_bytes());
+        let mut ihdr = Vec::new();
+        ihdr.extend_from_slice(&width.to_be_bytes());
+        ihdr.extend_from_slice(&height.to_be_bytes());
+        ihdr.extend_from_slice(&[if sixteen { 16 } else { 8 }, 6, 0, 0, 0]);
+        let mut out = vec![0x89, b'P', b'N', b'G', 0x0d, 0x0a, 0x1a, 0x0a];
+        for (kind, data) in [(b"IHDR", ihdr), (b"IDAT", zlib), (b"IEND", Vec::new())] {
+            out.extend_from_slice(&(data.len() as u32).to_be_bytes());
+            let start = out.len();
+            out.extend_from_slice(kind);
+            out.extend_from_slice(&data);
+            let crc = crc32(&out[start..]);
+            out.extend_from_slice(&crc.to_be_bytes());
+        }
+        out
+    }
+
+    fn crc32(bytes: &[u8]) -> u32 {
+        let mut crc = !0u32;
+        for &byte in bytes {
+            crc ^= u32::from(byte);
+            for _ in 0..8 {
+                crc = if crc & 1 != 0 { (crc >> 1) ^ 0xedb8_8320 } else { crc >> 1 };
+            }
+        }
+        !crc
+    }
+
+    /// One triangle primitive.
+    #[derive(Default)]
+    struct Prim {
+        positions: Vec<[f32; 3]>,
+        normals: Vec<[f32; 3]>,
+        uvs: Vec<[f32; 2]>,
+        tangents: Vec<[f32; 4]>,
+        indices: Vec<u32>,
+    }
+
+    /// A `nu x nv` grid from `origin` along `du` (first) and `dv`, facing `du x dv`, with
+    /// coordinates `uv(i / nu, j / nv)` and, when given, one tangent for every vertex.
+    fn grid(
+        origin: [f32; 3],
+        du: [f32; 3],
+        dv: [f32; 3],
+        (nu, nv): (u32, u32),
+        uv: impl Fn(f32, f32) -> [f32; 2],
+        tangent: Option<[f32; 4]>,
+    ) -> Prim {
+        let n = cross(du, dv);
+        let len = dot(n, n).sqrt();
+        let normal = n.map(|c| c / len);
+        let mut p = Prim::default();
+        for j in 0..=nv {
+            for i in 0..=nu {
+                let (a, b) = (i as f32 / nu as f32, j as f32 / nv as f32);
+                p.positions.push([0, 1, 2].map(|k| origin[k] + a * du[k] + b * dv[k]));
+                p.normals.push(normal);
+                p.uvs.push(uv(a, b));
+                p.tangents.extend(tangent);
+            }
+        }
+        let at = |i: u32, j: u32| j * (nu + 1) + i;
+        for j in 0..nv {
+            for i in 0..nu {
+                p.indices.extend([at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+            }
+        }
+        p
+    }
+
+    /// A UV sphere (`lat x lon` quads) with outward normals and coordinates `(2 lon, lat)`.
+    fn sphere(center: [f32; 3], radius: f32, lat: u32, lon: u32) -> Prim {
+        let mut p = Prim::default();
+        for i in 0..=lat {
+            for j in 0..=lon {
+                let theta = std::f32::consts::PI * i as f32 / lat as f32;
+                let phi = std::f32::consts::TAU * j as f32 / lon as f32;
+                let n = [theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin()];
+                p.positions.push([0, 1, 2].map(|k| center[k] + radius * n[k]));
+                p.normals.push(n);
+                p.uvs.push([2.0 * j as f32 / lon as f32, i as f32 / lat as f32]);
+            }
+        }
+        let at = |i: u32, j: u32| i * (lon + 1) + j;
+        for i in 0..lat {
+            for j in 0..lon {
+                let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+                if i > 0 {
+                    p.indices.extend([a, d, c]);
+                }
+                if i + 1 < lat {
+                    p.indices.extend([a, c, b]);
+                }
+            }
+        }
+        p
+    }
+
+    fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    }
+
+    fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
+        a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    }
+
+    /// The binary buffer with its bufferViews and accessors (JSON).
+    #[derive(Default)]
+    struct Buffers {
+        bin: Vec<u8>,
+        views: Vec<String>,
+        accessors: Vec<String>,
+    }
+
+    impl Buffers {
+        /// Appends `bytes` as one bufferView and an accessor of `count` elements over it;
+        /// returns the accessor's index.
+        fn accessor(
+            &mut self,
+            bytes: &[u8],
+            count: usize,
+            kind: &str,
+            component: u32,
+            bounds: Option<([f32; 3], [f32; 3])>,
+        ) -> usize {
+            let (offset, length) = (self.bin.len(), bytes.len());
+            self.views.push(format!(r#"{{"buffer": 0, "byteOffset": {offset}, "byteLength": {length}}}"#));
+            self.bin.extend_from_slice(bytes);
+            let bounds = bounds.map_or(String::new(), |(lo, hi)| format!(r#", "min": {lo:?}, "max": {hi:?}"#));
+            let view = self.views.len() - 1;
+            self.accessors.push(format!(
+                r#"{{"bufferView": {view}, "componentType": {component}, "count": {count}, "type": "{kind}"{bounds}}}"#
+            ));
+            self.accessors.len() - 1
+        }
+    }
+
+    fn f32_bytes<const N: usize>(v: &[[f32; N]]) -> Vec<u8> {
+        v.iter().flatten().flat_map(|x| x.to_le_bytes()).collect()
+    }
+
+    /// Writes the scene (`textured.toml` + `textured.gltf` and its resources) into `dir`, with
+    /// `integrator` as the TOML's `[integrator]` table and, when `material` is given, every
+    /// primitive in the TOML material it defines (`[materials.override]`); returns the TOML's
+    /// path.
+    pub fn write(dir: &Path, integrator: &str, material: Option<&str>) -> std::path::PathBuf {
+        std::fs::create_dir_all(dir).expect("temporary directory");
+        let write = |name: &str, bytes: &[u8]| std::fs::write(dir.join(name), bytes).expect("write");
+        // Images: 0 floor colour (sRGB checker), 1 metallic-roughness, 2 normal map (bumps),
+        // 3 wall colour (16-bit), 4 emission, 5 sphere colour.
+        write(
+            "colour.png",
+            &png(8, 8, false, |x, y| {
+                if (x / 2 + y / 2) % 2 == 0 {
+                    [200, 60 + 20 * x as u16, 40, 255]
+                } else {
+                    [30, 90, 160 + 10 * y as u16, 255]
+                }
+            }),
+        );
+        write("mr.png", &png(4, 4, false, |x, y| [0, 40 + 60 * x as u16, 255 - 80 * y as u16, 255]));
+        write(
+            "normal.png",
+            &png(8, 8, false, |x, y| {
+                let dx = ((x as f32 * 0.8).sin() * 90.0) as i32;
+                let dy = ((y as f32 * 1.1).cos() * 90.0) as i32;
+                [(128 + dx) as u16, (128 + dy) as u16, 220, 255]
+            }),
+        );
+        write(
+            "wall.png",
+            &png(6, 5, true, |x, y| {
+                [9000 + 9000 * x as u16, 52000 - 7000 * y as u16, 20000 + 3000 * (x + y) as u16, 65535]
+            }),
+        );
+        write(
+            "emission.png",
+            &png(4, 4, false, |x, y| if (x + y) % 2 == 0 { [255, 230, 180, 255] } else { [120, 160, 255, 255] }),
+        );
+        write("tiles.png", &png(3, 3, false, |x, y| [60 * x as u16 + 40, 200 - 50 * y as u16, 120, 255]));
+
+        let floor = grid(
+            [-2.0, 0.0, -2.0],
+            [0.0, 0.0, 4.0],
+            [4.0, 0.0, 0.0],
+            (4, 4),
+            |a, b| [3.0 * a - 1.0, 3.0 * b - 1.0],
+            None,
+        );
+        let wall = grid(
+            [-2.0, 0.0, -1.5],
+            [4.0, 0.0, 0.0],
+            [0.0, 2.5, 0.0],
+            (3, 3),
+            |a, b| [a, 1.0 - b],
+            Some([1.0, 0.0, 0.0, -1.0]),
+        );
+        let lamp = grid([-0.6, 2.4, -0.4], [1.2, 0.0, 0.0], [0.0, 0.0, 1.2], (2, 2), |a, b| [a, b], None);
+        // (primitive, material): 0 floor, 1 wall, 2 gold, 3 lamp, 4 gloss, 5 tiles.
+        let prims = [
+            (floor, 0),
+            (wall, 1),
+            (sphere([0.75, 0.45, 0.1], 0.45, 8, 12), 2),
+            (lamp, 3),
+            (sphere([0.0, 0.3, 0.9], 0.3, 6, 10), 4),
+            (sphere([-0.75, 0.5, 0.0], 0.5, 10, 14), 5),
+        ];
+        let (mut buffers, mut meshes) = (Buffers::default(), Vec::new());
+        for (p, material) in &prims {
+            let n = p.positions.len();
+            let mut lo = [f32::INFINITY; 3];
+            let mut hi = [f32::NEG_INFINITY; 3];
+            for q in &p.positions {
+                for k in 0..3 {
+                    (lo[k], hi[k]) = (lo[k].min(q[k]), hi[k].max(q[k]));
+                }
+            }
+            let pos = buffers.accessor(&f32_bytes(&p.positions), n, "VEC3", 5126, Some((lo, hi)));
+            let nor = buffers.accessor(&f32_bytes(&p.normals), n, "VEC3", 5126, None);
+            let uv = buffers.accessor(&f32_bytes(&p.uvs), n, "VEC2", 5126, None);
+            let tangent = if p.tangents.is_empty() {
+                String::new()
+            } else {
+                format!(r#", "TANGENT": {}"#, buffers.accessor(&f32_bytes(&p.tangents), n, "VEC4", 5126, None))
+            };
+            let index_bytes: Vec<u8> = p.indices.iter().flat_map(|i| i.to_le_bytes()).collect();
+            let idx = buffers.accessor(&index_bytes, p.indices.len(), "SCALAR", 5125, None);
+            meshes.push(format!(
+                r#"{{"primitives": [{{"attributes": {{"POSITION": {pos}, "NORMAL": {nor}, "TEXCOORD_0": {uv}{tangent}}}, "indices": {idx}, "material": {material}}}]}}"#
+            ));
+        }
+        let Buffers { bin, views, accessors } = buffers;
+        write("textured.bin", &bin);
+        let nodes: Vec<String> = (0..meshes.len()).map(|i| format!(r#"{{"mesh": {i}}}"#)).collect();
+        let node_list: Vec<String> = (0..meshes.len()).map(|i| i.to_string()).collect();
+        let gltf = format!(
+            r#"{{
+  "asset": {{"version": "2.0"}},
+  "extensionsUsed": ["KHR_texture_transform", "KHR_materials_emissive_strength"],
+  "scene": 0,
+  "scenes": [{{"nodes": [{nodes_list}]}}],
+  "nodes": [{nodes}],
+  "meshes": [{meshes}],
+  "buffers": [{{"uri": "textured.bin", "byteLength": {bin_len}}}],
+  "bufferViews": [{views}],
+  "accessors": [{accessors}],
+  "images": [{{"uri": "colour.png"}}, {{"uri": "mr.png"}}, {{"uri": "normal.png"}}, {{"uri": "wall.png"}}, {{"uri": "emission.png"}}, {{"uri": "tiles.png"}}],
+  "samplers": [
+    {{"magFilter": 9729, "wrapS": 10497, "wrapT": 10497}},
+    {{"magFilter": 9729, "wrapS": 33648, "wrapT": 33071}},
+    {{"magFilter": 9728, "wrapS": 33648, "wrapT": 33648}},
+    {{"magFilter": 9728, "wrapS": 33071, "wrapT": 33071}}
+  ],
+  "textures": [
+    {{"source": 0, "sampler": 0}},
+    {{"source": 1, "sampler": 1}},
+    {{"source": 2, "sampler": 0}},
+    {{"source": 3, "sampler": 2}},
+    {{"source": 4, "sampler": 0}},
+    {{"source": 5, "sampler": 3}}
+  ],
+  "materials": [
+    {{"name": "floor", "pbrMetallicRoughness": {{"baseColorTexture": {{"index": 0}}, "metallicRoughnessTexture": {{"index": 1}}}}, "normalTexture": {{"index": 2, "scale": 0.7}}}},
+    {{"name": "wall", "pbrMetallicRoughness": {{"baseColorFactor": [0.9, 0.8, 0.7, 1], "baseColorTexture": {{"index": 3, "extensions": {{"KHR_texture_transform": {{"offset": [0.1, -0.2], "rotation": 0.4, "scale": [1.7, 1.3]}}}}}}, "metallicFactor": 0.0, "roughnessFactor": 0.55}}, "normalTexture": {{"index": 2}}}},
+    {{"name": "gold", "pbrMetallicRoughness": {{"baseColorFactor": [1.0, 0.77, 0.34, 1], "metallicFactor": 1.0, "roughnessFactor": 0.35}}}},
+    {{"name": "lamp", "pbrMetallicRoughness": {{"baseColorFactor": [0.5, 0.5, 0.5, 1], "metallicFactor": 0.0, "roughnessFactor": 0.8}}, "emissiveFactor": [1, 1, 1], "emissiveTexture": {{"index": 4}}, "extensions": {{"KHR_materials_emissive_strength": {{"emissiveStrength": 6}}}}}},
+    {{"name": "gloss", "pbrMetallicRoughness": {{"baseColorFactor": [0.2, 0.5, 0.8, 1], "metallicFactor": 0.5, "roughnessFactor": 0.02}}}},
+    {{"name": "tiles", "pbrMetallicRoughness": {{"baseColorTexture": {{"index": 5}}, "metallicRoughnessTexture": {{"index": 1}}, "metallicFactor": 0.6, "roughnessFactor": 0.9}}, "normalTexture": {{"index": 2, "scale": 1.3}}}}
+  ]
+}}"#,
+            nodes_list = node_list.join(", "),
+            nodes = nodes.join(", "),
+            meshes = meshes.join(",\n    "),
+            bin_len = bin.len(),
+            views = views.join(",\n    "),
+            accessors = accessors.join(",\n    "),
+        );
+        write("textured.gltf", gltf.as_bytes());
+        let (materials, assign) = match material {
+            Some(m) => (format!("[materials.override]\n{m}\n"), "material = \"override\"\n"),
+            None => (String::new(), ""),
+        };
+        let toml = format!(
+            "[camera]\nposition = [0, 1.6, 4.2]\nlook_at = [0, 0.6, 0]\nfov_y = 45\nresolution = [32, 24]\n\
+             [integrator]\n{integrator}\n\
+             [environment]\ntype = \"constant\"\nradiance = [0.1, 0.12, 0.15]\n{materials}\
+             [[shapes]]\ntype = \"gltf\"\nfile = \"textured.gltf\"\n{assign}"
+        );
+        write("textured.toml", toml.as_bytes());
+        dir.join("textured.toml")
+    }
+}
+
+/// The textured metal-rough scene of [`textured_scene`] (sRGB and 16-bit base colours, a
+/// metallic-roughness texture, normal maps with and without mesh tangents, textured emission,
+/// untextured metal-rough materials, every wrap mode, nearest and bilinear) renders on the GPU
+/// as on the CPU, under two integrator settings, within the bounds of a scene without an
+/// environment map; so does its geometry under one untextured metal-rough material, which runs
+/// a specialized kernel without `TEXTURES`.
+#[test]
+fn a_textured_metal_rough_scene_matches_the_cpu_render() {
+    let Some(ctx) = context_or_skip("the textured scene test") else { return };
+    let dir = std::env::temp_dir().join(format!("ggx-wgpu-textured-{}", std::process::id()));
+    let plain = "type = \"metal-rough\"\nbase_color = [0.8, 0.5, 0.3]\nmetallic = 0.4\nroughness = 0.3";
+    let settings = [
+        ("spp = 8\nmax_depth = 6\nrussian_roulette = 3", None),
+        (
+            "spp = 8\nmax_depth = 4\nsampler = \"independent\"\nbsdf_sampling = \"spherical-caps\"\nlight_strategy = \"nee\"",
+            None,
+        ),
+        ("spp = 8\nmax_depth = 6\nrussian_roulette = 3", Some(plain)),
+    ];
+    let mut failures = Vec::new();
+    for (i, (integrator, material)) in settings.iter().enumerate() {
+        let path = textured_scene::write(&dir, integrator, *material);
+        let scene = ggx_scene::load_scene(&path).unwrap_or_else(|e| panic!("textured scene: {e}"));
+        let f = scene.features;
+        let textured = material.is_none();
+        assert!(f.metal_rough && f.textures == textured && f.area_lights == textured, "{f:?}");
+        if textured {
+            assert!(scene.textures.infos.len() >= 6 && !scene.mesh.uvs.is_empty() && !scene.mesh.tangents.is_empty());
+        }
+        let options = RenderOptions::default();
+        let cpu =
+            Renderer::new(&scene, AccelKind::Bvh2).render(&options, &RenderControl::default()).expect("cpu render");
+        let gpu = WgpuRenderer::new(&scene, &ctx)
+            .and_then(|r| r.render(&options, &RenderControl::default()))
+            .unwrap_or_else(|e| panic!("textured scene: {e}"));
+        assert_eq!((gpu.spp, gpu.kernel), (cpu.spp, cpu.kernel));
+        let kernel = if textured { ggx_wgpu::KernelVariant::ALL.name() } else { "env" };
+        assert_eq!(gpu.kernel, kernel);
+        let mean = cpu.film.mean();
+        assert!(mean.iter().all(|p| p.is_finite()) && mean.iter().any(|p| p.max_element() > 0.05), "a lit image");
+        let m = compare(&gpu.film.mean(), &mean, PIXEL_TOLERANCE).expect("same size");
+        let (max_over, max_rel_mse) = bounds(&scene.features);
+        println!("textured scene, settings {i}: rays gpu {} cpu {}: {m}", gpu.rays, cpu.rays);
+        if m.over_tolerance > max_over || m.rel_mse > max_rel_mse {
+            failures.push(format!("settings {i}: {m}"));
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(failures.is_empty(), "GPU renders of the textured scene differ from the CPU:\n{}", failures.join("\n"));
 }

@@ -1,11 +1,13 @@
-// ggx path tracer, part 2: ggx-render's Bsdf (ggx-render/src/bsdf.rs), ggx-cpu's integrator (integrator.rs) and render
-// loop (render.rs), one thread per pixel. Expects ggx_core.wgsl and scene.wgsl in front of it.
+// ggx path tracer, part 2: ggx-render's Bsdf (ggx-render/src/bsdf.rs) and textured materials (textured.rs), ggx-cpu's
+// integrator (integrator.rs) and render loop (render.rs), one thread per pixel. Expects ggx_core.wgsl and scene.wgsl in
+// front of it.
 
 // Kernel variant, like ggx-cpu's const generics: features compiled out when the scene lacks them.
 override AREA: bool = true;
 override ENV: bool = true;
 override PLASTIC: bool = true;
 override DIELECTRIC: bool = true;
+override TEXTURES: bool = true;
 
 const MAT_DIFFUSE: u32 = 0u;
 const MAT_CONDUCTOR: u32 = 1u;
@@ -13,6 +15,21 @@ const MAT_PLASTIC: u32 = 2u;
 const MAT_BLACK: u32 = 3u;
 const MAT_DIELECTRIC: u32 = 4u;
 const MAT_THIN: u32 = 5u;
+const MAT_METAL_ROUGH: u32 = 6u;
+// Word offsets of the fields of a MetalRoughRecord (scene_upload.rs) in `surface`.
+const MR_BASE_COLOR: u32 = 0u;
+const MR_METALLIC: u32 = 3u;
+const MR_EMISSION: u32 = 4u;
+const MR_ROUGHNESS: u32 = 7u;
+const MR_SPECULAR_COLOR: u32 = 8u;
+const MR_SPECULAR: u32 = 11u;
+const MR_IOR: u32 = 12u;
+const MR_NORMAL_SCALE: u32 = 13u;
+const MR_BASE_COLOR_TEXTURE: u32 = 16u;
+const MR_METALLIC_TEXTURE: u32 = 24u;
+const MR_ROUGHNESS_TEXTURE: u32 = 32u;
+const MR_NORMAL_TEXTURE: u32 = 40u;
+const MR_EMISSION_TEXTURE: u32 = 48u;
 const LIGHT_BSDF: u32 = 0u;
 const LIGHT_MIS: u32 = 2u;
 const SHADOW_SCALE: f32 = 1.0f - 1e-3f;
@@ -43,6 +60,23 @@ fn material_dielectric_ms(m: Material) -> GgxDielectricMs {
     return GgxDielectricMs(GgxDielectric(m.conductor.distribution, m.ior, 0u), m.compensation, array<u32, 3>(0u, 0u, 0u));
 }
 
+// The metal-rough record as ggx-core's GltfMetalRough (scene_upload.rs `MaterialRecord` table).
+fn material_metal_rough(m: Material) -> GltfMetalRough {
+    return GltfMetalRough(m.albedo, m.ior, m.extra, m.specular_weight, m.conductor.distribution, m.p_specular, 0u);
+}
+
+// The record m shading as GltfMetalRough b (textured.rs `metal_rough_bsdf`: the same technique).
+fn with_metal_rough(m_in: Material, b: GltfMetalRough) -> Material {
+    var m = m_in;
+    m.albedo = b.base_color;
+    m.ior = b.metallic;
+    m.extra = b.f0;
+    m.specular_weight = b.specular_weight;
+    m.conductor.distribution = b.distribution;
+    m.p_specular = b.p_specular;
+    return m;
+}
+
 // Bsdf::base_weight: plastic_base_weight with compensation, else (1 - F(mu_o)) (1 - F(mu_i)).
 fn plastic_weight(m: Material, mu_o: f32, mu_i: f32) -> f32 {
     if m.compensation != 0u {
@@ -71,6 +105,8 @@ fn bsdf_eval(m: Material, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
     } else if PLASTIC && m.kind == MAT_PLASTIC {
         let t = plastic_weight(m, wo.z, wi.z);
         return ggx_conductor_eval(m.conductor, wo, wi) + m.albedo * (t * wi.z * FRAC_1_PI);
+    } else if m.kind == MAT_METAL_ROUGH {
+        return gltf_metal_rough_eval(material_metal_rough(m), wo, wi);
     }
     return vec3(0.0);
 }
@@ -90,6 +126,8 @@ fn bsdf_pdf(m: Material, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
     } else if PLASTIC && m.kind == MAT_PLASTIC {
         let p = coat_probability(fresnel_dielectric(wo.z, m.ior), m.albedo);
         return p * ggx_conductor_pdf(m.conductor, wo, wi, m.sampling) + (1.0 - p) * pdf_cosine_hemisphere(wi);
+    } else if m.kind == MAT_METAL_ROUGH {
+        return gltf_metal_rough_pdf(material_metal_rough(m), wo, wi, m.sampling);
     }
     return 0.0;
 }
@@ -136,11 +174,14 @@ fn bsdf_sample(m: Material, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> BsdfSam
             return none;
         }
         return BsdfSample(wi, bsdf_eval(m, wo, wi) / pdf, pdf, 0u, 1u);
+    } else if m.kind == MAT_METAL_ROUGH {
+        return gltf_metal_rough_sample(material_metal_rough(m), wo, u, u_lobe, m.sampling);
     }
     return none;
 }
 
-// Bsdf::is_delta: a mirror conductor, a smooth dielectric, a thin sheet.
+// Bsdf::is_delta: a mirror conductor, a smooth dielectric, a thin sheet (never a metal-rough material: its diffuse
+// lobe stays).
 fn bsdf_is_delta(m: Material) -> bool {
     if m.kind == MAT_CONDUCTOR {
         return ggx_conductor_is_delta(m.conductor);
@@ -154,6 +195,98 @@ fn bsdf_is_delta(m: Material) -> bool {
 // Bsdf::transmits: a dielectric or a thin sheet.
 fn bsdf_transmits(m: Material) -> bool {
     return m.kind == MAT_DIELECTRIC || m.kind == MAT_THIN;
+}
+
+// textured.rs `metal_rough_at`: the BRDF of the MetalRoughRecord at word o at uv: each factor times its texture (base
+// colour RGB, metallic and roughness their slot's channel), alpha = roughness^2.
+fn metal_rough_at(o: u32, uv: vec2<f32>) -> GltfMetalRough {
+    var base = surface_vec3(o + MR_BASE_COLOR);
+    let base_tex = load_texture_ref(o + MR_BASE_COLOR_TEXTURE);
+    if texture_ref_is_some(base_tex) {
+        base *= texture_sample(base_tex, uv).xyz;
+    }
+    var metallic = surface_f32(o + MR_METALLIC);
+    let metallic_tex = load_texture_ref(o + MR_METALLIC_TEXTURE);
+    if texture_ref_is_some(metallic_tex) {
+        metallic *= texture_sample_channel(metallic_tex, uv);
+    }
+    var roughness = surface_f32(o + MR_ROUGHNESS);
+    let roughness_tex = load_texture_ref(o + MR_ROUGHNESS_TEXTURE);
+    if texture_ref_is_some(roughness_tex) {
+        roughness *= texture_sample_channel(roughness_tex, uv);
+    }
+    let alpha = roughness * roughness;
+    let ior = surface_f32(o + MR_IOR);
+    let specular_color = surface_vec3(o + MR_SPECULAR_COLOR);
+    return gltf_metal_rough_new(base, metallic, alpha, alpha, ior, specular_color, surface_f32(o + MR_SPECULAR));
+}
+
+// textured.rs `normal_map_at`: normalize((2 rgb - 1) (scale, scale, 1)) of the record's normal map at uv; 0 (the
+// Rust None) without a normal map or when the texel decodes to zero.
+fn normal_map_at(o: u32, uv: vec2<f32>) -> vec3<f32> {
+    let r = load_texture_ref(o + MR_NORMAL_TEXTURE);
+    if !texture_ref_is_some(r) {
+        return vec3(0.0);
+    }
+    let t = texture_sample(r, uv).xyz * 2.0 - vec3(1.0);
+    let scale = surface_f32(o + MR_NORMAL_SCALE);
+    return glam_normalize_or_zero(t * vec3(scale, scale, 1.0));
+}
+
+// SceneData::emission_at: the emitted radiance of material `mi` on `tri` at (b1, b2): with TEXTURES, a textured
+// metal-rough material with an emission texture gives its factor times the texture (textured.rs `emission_at`).
+fn emission_at(mi: u32, tri: Triangle, b1: f32, b2: f32) -> vec3<f32> {
+    let m = materials[mi];
+    if TEXTURES && m.kind == MAT_METAL_ROUGH && m.surface != NO_INDEX {
+        let r = load_texture_ref(m.surface + MR_EMISSION_TEXTURE);
+        if texture_ref_is_some(r) {
+            return surface_vec3(m.surface + MR_EMISSION) * texture_sample(r, uv_at(tri, b1, b2)).xyz;
+        }
+    }
+    return m.emission;
+}
+
+// textured.rs `perturb_normal`: n bent by the tangent-space normal nt, normalize(nt.x T + nt.y B + nt.z n), T the mesh's
+// tangent (record k, interpolated) or dp/du, made orthogonal to n, B = w (n x T); n unchanged without a tangent.
+fn perturb_normal(n: vec3<f32>, nt: vec3<f32>, tri: Triangle, k: u32, b1: f32, b2: f32) -> vec3<f32> {
+    var t = vec3(0.0);
+    var w = 1.0f;
+    var from_mesh = false;
+    if k < params.tangent_count {
+        let o = params.tangents + 12u * k;
+        let w0 = surface_f32(o + 3u);
+        if w0 != 0.0 {
+            t = (1.0 - b1 - b2) * surface_vec3(o) + b1 * surface_vec3(o + 4u) + b2 * surface_vec3(o + 8u);
+            w = select(1.0, -1.0, w0 < 0.0);
+            from_mesh = true;
+        }
+    }
+    if !from_mesh {
+        let dp1 = tri.v1 - tri.v0;
+        let dp2 = tri.v2 - tri.v0;
+        let o = params.uvs + 8u * k;
+        let uv0 = vec2(surface_f32(o), surface_f32(o + 1u));
+        let d1 = vec2(surface_f32(o + 2u), surface_f32(o + 3u)) - uv0;
+        let d2 = vec2(surface_f32(o + 4u), surface_f32(o + 5u)) - uv0;
+        let det = d1.x * d2.y - d2.x * d1.y;
+        if !(abs(det) > 1e-20f) {
+            return n;
+        }
+        let dpdu = (dp1 * d2.y - dp2 * d1.y) / det;
+        let dpdv = (dp2 * d1.x - dp1 * d2.x) / det;
+        w = select(1.0, -1.0, dot3(cross3(n, dpdu), -dpdv) < 0.0);
+        t = dpdu;
+    }
+    let tn = glam_normalize_or_zero(t - n * dot3(n, t));
+    if all(tn == vec3(0.0)) || !is_finite3(tn) {
+        return n;
+    }
+    let b = cross3(n, tn) * w;
+    let bent = glam_normalize_or_zero(tn * nt.x + b * nt.y + n * nt.z);
+    if all(bent == vec3(0.0)) || !is_finite3(bent) {
+        return n;
+    }
+    return bent;
 }
 
 // f32::signum: 1 for +0 and positives, -1 for -0 and negatives.
@@ -308,7 +441,12 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
         let tri = triangles[prim];
         var ng = geometric_normal(tri);
         let p = origin + dir * t_hit;
-        let m = materials[tri.material];
+        var m = materials[tri.material];
+        // The hit's barycentrics (ggx-cpu's Hit::b1, b2), where something reads them.
+        var b = vec2(0.0);
+        if TEXTURES || tri.normals != NO_INDEX {
+            b = barycentrics(tri, origin, dir);
+        }
 
         if AREA && tri.emitter != NO_INDEX {
             let cos_l = -dot3(ng, dir);
@@ -321,8 +459,19 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
                 } else if prev_pdf == inf_f32() {
                     w = 1.0;
                 }
-                radiance += beta * m.emission * w;
+                var le = m.emission;
+                if TEXTURES {
+                    le = emission_at(tri.material, tri, b.x, b.y);
+                }
+                radiance += beta * le * w;
             }
+        }
+        // A textured material: its BSDF and normal at this point.
+        var mapped_normal = vec3(0.0);
+        if TEXTURES && m.kind == MAT_METAL_ROUGH && m.surface != NO_INDEX {
+            let uv = uv_at(tri, b.x, b.y);
+            m = with_metal_rough(m, metal_rough_at(m.surface, uv));
+            mapped_normal = normal_map_at(m.surface, uv);
         }
         if (!PLASTIC && m.kind == MAT_PLASTIC) || (!DIELECTRIC && bsdf_transmits(m)) {
             break;
@@ -340,8 +489,10 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
         }
         var ns = ng;
         if tri.normals != NO_INDEX && tri.normals < arrayLength(&shading_normals) {
-            let b = barycentrics(tri, origin, dir);
-            let n = interpolate_normal(shading_normals[tri.normals], b.x, b.y);
+            var n = interpolate_normal(shading_normals[tri.normals], b.x, b.y);
+            if TEXTURES && any(mapped_normal != vec3(0.0)) && tri.normals < params.uv_count {
+                n = perturb_normal(n, mapped_normal, tri, tri.normals, b.x, b.y);
+            }
             ns = select(n, -n, dot3(n, ng) < 0.0);
         }
         let frame = shading_frame(ns);
@@ -359,6 +510,9 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
                 let e = sample_emitter(u_emitter);
                 let light_tri = triangles[emitters[e].triangle];
                 let pl = sample_triangle(light_tri, s.light);
+                // The sampled point's barycentrics (sample_triangle's weights of v1, v2).
+                let su = sqrt(max_num(s.light.x, 0.0));
+                let lb = vec2(su * (1.0 - s.light.y), su * s.light.y);
                 var shadow_origin = p_out;
                 if transmits {
                     shadow_origin = offset_ray_origin(p, ng * signum(dot3(pl - p, ng)));
@@ -375,7 +529,10 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
                     if any(f != vec3(0.0)) && pdf_light > 0.0 && is_finite(pdf_light) {
                         *rays += 1u;
                         if unoccluded(shadow_origin, wi_world, dist * SHADOW_SCALE) {
-                            let le = materials[light_tri.material].emission;
+                            var le = materials[light_tri.material].emission;
+                            if TEXTURES {
+                                le = emission_at(light_tri.material, light_tri, lb.x, lb.y);
+                            }
                             var w = 1.0f;
                             if use_mis {
                                 w = power_heuristic(1.0, pdf_light, 1.0, bsdf_pdf(m, wo, wi));

@@ -1,5 +1,6 @@
 // ggx path tracer, part 1: scene bindings, BVH2 traversal (obvhs's ray_traverse_dynamic),
-// area lights and the environment (ggx-scene). Expects ggx_core.wgsl in front of it.
+// area lights, the environment, texture coordinates and textures (ggx-scene). Expects
+// ggx_core.wgsl in front of it.
 
 const STACK_SIZE: u32 = 64u;
 const NO_INDEX: u32 = 0xffffffffu;
@@ -7,6 +8,15 @@ const FLT_EPSILON: f32 = 1.1920929e-7f;
 const ENV_NONE: u32 = 0u;
 const ENV_CONSTANT: u32 = 1u;
 const ENV_MAP: u32 = 2u;
+// ggx-scene texture.rs flags.
+const TEXTURE_FLOAT: u32 = 1u;
+const TEXTURE_NEAREST: u32 = 2u;
+const TEXTURE_WRAP_S_SHIFT: u32 = 2u;
+const TEXTURE_WRAP_T_SHIFT: u32 = 4u;
+const REF_SRGB: u32 = 1u;
+const REF_CHANNEL_SHIFT: u32 = 1u;
+const WRAP_CLAMP_TO_EDGE: u32 = 1u;
+const WRAP_MIRRORED_REPEAT: u32 = 2u;
 
 struct Params {
     cam_position: vec3<f32>,
@@ -44,6 +54,14 @@ struct Params {
     env_texels: u32,
     env_marginal_integral: f32,
     energy_tables: u32,
+    uvs: u32,
+    uv_count: u32,
+    tangents: u32,
+    tangent_count: u32,
+    texture_infos: u32,
+    texture_count: u32,
+    texture_unorm: u32,
+    texture_words: u32,
     pad1: u32,
 }
 
@@ -76,9 +94,9 @@ struct Material {
     extra: vec3<f32>,
     sampling: u32,
     compensation: u32,
-    pad0: u32,
-    pad1: u32,
-    pad2: u32,
+    surface: u32,
+    specular_weight: f32,
+    p_specular: f32,
 }
 
 struct Emitter {
@@ -86,6 +104,22 @@ struct Emitter {
     light: u32,
     area: f32,
     pmf: f32,
+}
+
+// ggx-scene TextureInfo: texels at `offset` in the word table, width x height, flags.
+struct TextureInfo {
+    offset: u32,
+    width: u32,
+    height: u32,
+    flags: u32,
+}
+
+// ggx-scene TextureRef: texture index (NO_INDEX: none), flags, row-major 2x3 transform of (u, v, 1).
+struct TextureRef {
+    texture: u32,
+    flags: u32,
+    s: vec3<f32>,
+    t: vec3<f32>,
 }
 
 struct CdfPick {
@@ -108,6 +142,8 @@ struct Ray {
 @group(0) @binding(5) var<storage, read> emitters: array<Emitter>;
 @group(0) @binding(6) var<storage, read> table: array<f32>;
 @group(0) @binding(7) var<storage, read_write> output: array<vec4<f32>>;
+// Textured materials, texture coordinates, tangents, textures (scene_upload.rs `SceneTables::surface`).
+@group(0) @binding(8) var<storage, read> surface: array<u32>;
 
 // energy.wgsl's table accessor: ggx-core's energy tables, appended to `table` at params.energy_tables.
 fn energy_table(i: u32) -> f32 {
@@ -410,4 +446,166 @@ fn env_sample(u: vec2<f32>) -> vec4<f32> {
     let d = uv_to_direction(vec2(x, y));
     let pdf = env_solid_angle_pdf(col, row, sin(PI * y));
     return vec4(quat_rotate(params.env_to_world, d), pdf);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Texture coordinates and textures (ggx-scene mesh.rs, texture.rs), read from `surface`
+// ---------------------------------------------------------------------------------------------
+
+// Word i of `surface` as f32.
+fn surface_f32(i: u32) -> f32 {
+    return bitcast<f32>(surface[i]);
+}
+
+// Words i..i + 3 of `surface` as a vec3<f32>.
+fn surface_vec3(i: u32) -> vec3<f32> {
+    return vec3(surface_f32(i), surface_f32(i + 1u), surface_f32(i + 2u));
+}
+
+// The TextureRef at word o of `surface` (8 words: texture, flags, transform).
+fn load_texture_ref(o: u32) -> TextureRef {
+    return TextureRef(surface[o], surface[o + 1u], surface_vec3(o + 2u), surface_vec3(o + 5u));
+}
+
+// TextureRef::is_some: a texture is set.
+fn texture_ref_is_some(r: TextureRef) -> bool {
+    return r.texture != NO_INDEX;
+}
+
+// TextureRef::apply: s = m0 u + m1 v + m2, t = m3 u + m4 v + m5.
+fn texture_ref_apply(r: TextureRef, uv: vec2<f32>) -> vec2<f32> {
+    return vec2(r.s.x * uv.x + r.s.y * uv.y + r.s.z, r.t.x * uv.x + r.t.y * uv.y + r.t.z);
+}
+
+// TriangleUvs::interpolate of record k: b0 uv0 + b1 uv1 + b2 uv2, b0 = 1 - b1 - b2.
+fn interpolate_uv(k: u32, b1: f32, b2: f32) -> vec2<f32> {
+    let o = params.uvs + 8u * k;
+    let uv0 = vec2(surface_f32(o), surface_f32(o + 1u));
+    let uv1 = vec2(surface_f32(o + 2u), surface_f32(o + 3u));
+    let uv2 = vec2(surface_f32(o + 4u), surface_f32(o + 5u));
+    return (1.0 - b1 - b2) * uv0 + b1 * uv1 + b2 * uv2;
+}
+
+// SceneData::uv_at: the triangle's interpolated texture coordinates, 0 without any.
+fn uv_at(tri: Triangle, b1: f32, b2: f32) -> vec2<f32> {
+    if tri.normals >= params.uv_count {
+        return vec2(0.0);
+    }
+    return interpolate_uv(tri.normals, b1, b2);
+}
+
+// Word i of TextureSet::words, 0 past its end (the table is the last section of `surface`).
+fn texture_word(i: u32) -> u32 {
+    let j = params.texture_words + i;
+    if i > j || j >= arrayLength(&surface) {
+        return 0u;
+    }
+    return surface[j];
+}
+
+// Wrap::from_bits: 1 clamp to edge, 2 mirrored repeat, 0 and 3 repeat.
+fn wrap_bits(bits: u32) -> u32 {
+    return bits & 3u;
+}
+
+// wrap_coord: [0, 1) for repeat, [0, 1] for clamp, mirrored for mirrored repeat; NaN, inf -> 0.
+fn wrap_coord(s_in: f32, wrap: u32) -> f32 {
+    let s = select(0.0, s_in, is_finite(s_in));
+    if wrap == WRAP_CLAMP_TO_EDGE {
+        return min_num(max_num(s, 0.0), 1.0);
+    } else if wrap == WRAP_MIRRORED_REPEAT {
+        let p = s * 0.5;
+        let f = 2.0 * (p - floor(p));
+        return select(f, 2.0 - f, f > 1.0);
+    }
+    return s - floor(s);
+}
+
+// texel_index: floor of x >= 0 (NaN -> 0), at most n - 1 (Rust's saturating `as u32` then `min`).
+fn texel_index(x: f32, n: u32) -> u32 {
+    return min(u32(min_num(max_num(x, 0.0), f32(n - 1u))), n - 1u);
+}
+
+// neighbour: the texel a bilinear tap at i reads: wrapped (repeat), reflected (mirrored), clamped.
+fn neighbour(i: f32, n: u32, wrap: u32) -> u32 {
+    let nf = f32(n);
+    var j = i;
+    if wrap == WRAP_MIRRORED_REPEAT {
+        if i < 0.0 {
+            j = -1.0 - i;
+        } else if i >= nf {
+            j = 2.0 * nf - 1.0 - i;
+        }
+    } else if wrap != WRAP_CLAMP_TO_EDGE {
+        if i < 0.0 {
+            j = i + nf;
+        } else if i >= nf {
+            j = i - nf;
+        }
+    }
+    return texel_index(j, n);
+}
+
+// TextureSet::texel: linear RGBA of texel (x, y); float texels as stored (0 unless all finite),
+// 8-bit channels i / 255 (the upload's table of the CPU's values), R, G, B through the sRGB table.
+fn texel(info: TextureInfo, x: u32, y: u32, srgb: bool) -> vec4<f32> {
+    let i = y * info.width + x;
+    if (info.flags & TEXTURE_FLOAT) != 0u {
+        let o = info.offset + 4u * i;
+        let v = vec4(
+            bitcast<f32>(texture_word(o)),
+            bitcast<f32>(texture_word(o + 1u)),
+            bitcast<f32>(texture_word(o + 2u)),
+            bitcast<f32>(texture_word(o + 3u)),
+        );
+        return select(vec4(0.0), v, is_finite3(v.xyz) && is_finite(v.w));
+    }
+    let w = texture_word(info.offset + i);
+    let c = vec4((w >> 0u) & 255u, (w >> 8u) & 255u, (w >> 16u) & 255u, w >> 24u);
+    let a = surface_f32(params.texture_unorm + c.w);
+    if srgb {
+        let lut = params.texture_words;
+        return vec4(surface_f32(lut + c.x), surface_f32(lut + c.y), surface_f32(lut + c.z), a);
+    }
+    let u = params.texture_unorm;
+    return vec4(surface_f32(u + c.x), surface_f32(u + c.y), surface_f32(u + c.z), a);
+}
+
+// TextureSet::sample: linear RGBA of r at uv: transform, wrap, then bilinear (texel centres at
+// half-integers) or nearest; 0 for a missing texture.
+fn texture_sample(r: TextureRef, uv: vec2<f32>) -> vec4<f32> {
+    if r.texture >= params.texture_count {
+        return vec4(0.0);
+    }
+    let ib = params.texture_infos + 4u * r.texture;
+    let info = TextureInfo(surface[ib], surface[ib + 1u], surface[ib + 2u], surface[ib + 3u]);
+    let st = texture_ref_apply(r, uv);
+    let srgb = (r.flags & REF_SRGB) != 0u;
+    let wrap_s = wrap_bits(info.flags >> TEXTURE_WRAP_S_SHIFT);
+    let wrap_t = wrap_bits(info.flags >> TEXTURE_WRAP_T_SHIFT);
+    let s = wrap_coord(st.x, wrap_s);
+    let t = wrap_coord(st.y, wrap_t);
+    let w = info.width;
+    let h = info.height;
+    if (info.flags & TEXTURE_NEAREST) != 0u {
+        return texel(info, texel_index(s * f32(w), w), texel_index(t * f32(h), h), srgb);
+    }
+    let x = s * f32(w) - 0.5;
+    let y = t * f32(h) - 0.5;
+    let x0 = floor(x);
+    let y0 = floor(y);
+    let fx = x - x0;
+    let fy = y - y0;
+    let xa = neighbour(x0, w, wrap_s);
+    let xb = neighbour(x0 + 1.0, w, wrap_s);
+    let ya = neighbour(y0, h, wrap_t);
+    let yb = neighbour(y0 + 1.0, h, wrap_t);
+    let top = texel(info, xa, ya, srgb) * (1.0 - fx) + texel(info, xb, ya, srgb) * fx;
+    let bottom = texel(info, xa, yb, srgb) * (1.0 - fx) + texel(info, xb, yb, srgb) * fx;
+    return top * (1.0 - fy) + bottom * fy;
+}
+
+// TextureSet::sample_channel: the slot's channel (0 R, 1 G, 2 B, 3 A) of texture_sample.
+fn texture_sample_channel(r: TextureRef, uv: vec2<f32>) -> f32 {
+    return texture_sample(r, uv)[(r.flags >> REF_CHANNEL_SHIFT) & 3u];
 }
