@@ -58,6 +58,9 @@ pub struct MemoryEstimate {
     pub film_pixels: u64,
     /// Their memory ([`film_bytes`]).
     pub film_bytes: u64,
+    /// Textures and their texture coordinates ([`crate::TextureSet::bytes`] and the
+    /// per-triangle records), known once they are loaded (0 in [`MemoryEstimate::new`]).
+    pub texture_bytes: u64,
 }
 
 impl MemoryEstimate {
@@ -71,26 +74,35 @@ impl MemoryEstimate {
             map_bytes: map_bytes(map_texels),
             film_pixels: u64::from(width) * u64::from(height),
             film_bytes: film_bytes(width, height),
+            texture_bytes: 0,
         }
     }
 
     /// The sum of the parts.
     pub fn total(&self) -> u64 {
-        self.triangle_bytes.saturating_add(self.map_bytes).saturating_add(self.film_bytes)
+        self.triangle_bytes
+            .saturating_add(self.map_bytes)
+            .saturating_add(self.film_bytes)
+            .saturating_add(self.texture_bytes)
     }
 }
 
 impl fmt::Display for MemoryEstimate {
-    /// `1.2 GiB (triangles 1.1 GiB, map 28.0 MiB, film 4.0 MiB)`.
+    /// `1.2 GiB (triangles 1.1 GiB, map 28.0 MiB, film 4.0 MiB)`, with `textures 3.0 MiB`
+    /// when there are any.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(
             f,
-            "{} (triangles {}, map {}, film {})",
+            "{} (triangles {}, map {}, film {}",
             format_bytes(self.total()),
             format_bytes(self.triangle_bytes),
             format_bytes(self.map_bytes),
             format_bytes(self.film_bytes)
-        )
+        )?;
+        if self.texture_bytes > 0 {
+            write!(f, ", textures {}", format_bytes(self.texture_bytes))?;
+        }
+        f.write_str(")")
     }
 }
 
@@ -101,7 +113,13 @@ pub fn estimate_memory(scene: &Scene) -> MemoryEstimate {
         Some(Environment::Map(m)) => u64::from(m.width) * u64::from(m.height),
         _ => 0,
     };
-    MemoryEstimate::new(scene.mesh.triangles.len() as u64, texels, scene.camera.resolution)
+    let mut e = MemoryEstimate::new(scene.mesh.triangles.len() as u64, texels, scene.camera.resolution);
+    if !scene.textures.is_empty() || !scene.mesh.uvs.is_empty() {
+        let records = (scene.mesh.uvs.len() * size_of::<crate::TriangleUvs>()
+            + scene.mesh.tangents.len() * size_of::<crate::TriangleTangents>()) as u64;
+        e.texture_bytes = scene.textures.bytes().saturating_add(records);
+    }
+    e
 }
 
 #[cfg(test)]

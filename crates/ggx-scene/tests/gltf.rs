@@ -153,6 +153,8 @@ fn toml_textures_and_their_errors() {
     // Three image files plus the glTF's, one shared by two slots with other samplers.
     assert!(s.textures.infos.len() >= 5, "{:?}", s.textures.infos);
     assert!(s.inputs.iter().any(|p| p.ends_with("textures/checker.png")));
+    let memory = ggx_scene::estimate_memory(&s);
+    assert!(memory.texture_bytes > s.textures.bytes() && memory.to_string().contains(", textures "), "{memory}");
     let floor = &s.materials[s.material_index("floor").unwrap()];
     assert!(matches!(floor, Material::MetalRough(m) if m.metallic == 0.0 && m.specular == 0.0));
     let lights: Vec<_> = s.lights.lights.iter().map(|l| l.material).collect();
