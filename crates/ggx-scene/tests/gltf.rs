@@ -91,6 +91,29 @@ fn textures_are_decoded_once_and_shared() {
 }
 
 #[test]
+fn a_normal_map_without_tangents_gets_mikktspace_tangents() {
+    let mut json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(corpus("BoxTextured.gltf")).unwrap()).unwrap();
+    json["materials"][0]["normalTexture"] = serde_json::json!({ "index": 0, "scale": 0.5 });
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("gltf_mikktspace");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("normal.gltf");
+    std::fs::write(&path, serde_json::to_vec(&json).unwrap()).unwrap();
+    let s = load_gltf_scene(&path, &Limits::default(), &GltfOptions::default()).unwrap();
+    assert_eq!(s.mesh.tangents.len(), 12, "one record per triangle");
+    for (t, n) in s.mesh.tangents.iter().zip(&s.mesh.shading_normals) {
+        for (tv, nv) in t.tangents.iter().zip(&n.normals) {
+            let (tv3, nv3) = (glam::Vec3::from_slice(&tv[..3]), glam::Vec3::from_slice(&nv[..3]));
+            assert!(
+                tv[3].abs() == 1.0 && (tv3.length() - 1.0).abs() < 1e-4 && tv3.dot(nv3).abs() < 1e-4,
+                "{tv:?} {nv:?}"
+            );
+        }
+    }
+    assert_eq!(metal_rough(&s)[0].normal_scale, 0.5);
+}
+
+#[test]
 fn cameras_by_name_or_framing_and_the_environment_option() {
     let s = load("Cameras.gltf");
     assert_eq!(s.camera.position.to_array(), [0.5, 0.5, 3.0]);

@@ -124,8 +124,16 @@ fn hostile_numbers_in_the_json_are_loaded_or_refused() {
         return;
     }
     let out = dir("numbers");
-    for file in ["BoxTextured.gltf", "SimpleSparseAccessor.gltf", "TextureCoordinateTest.gltf", "Cameras.gltf"] {
-        let json: serde_json::Value = serde_json::from_slice(&corpus(file)).unwrap();
+    // BoxTextured with its texture as a normal map too: MikkTSpace runs on the mutated mesh.
+    let mut normal_mapped: serde_json::Value = serde_json::from_slice(&corpus("BoxTextured.gltf")).unwrap();
+    normal_mapped["materials"][0]["normalTexture"] = serde_json::json!({ "index": 0 });
+    let files =
+        ["BoxTextured.gltf", "SimpleSparseAccessor.gltf", "TextureCoordinateTest.gltf", "Cameras.gltf", "normal.gltf"];
+    for file in files {
+        let json: serde_json::Value = match file {
+            "normal.gltf" => normal_mapped.clone(),
+            _ => serde_json::from_slice(&corpus(file)).unwrap(),
+        };
         let mut pointers = Vec::new();
         numbers(&json, String::new(), &mut pointers);
         let path = out.join(file);

@@ -7,6 +7,7 @@
 mod accessor;
 mod material;
 mod sources;
+mod tangents;
 
 pub(crate) use sources::decode_image;
 
@@ -379,6 +380,10 @@ fn read_primitive(
         None => (0..u32::try_from(vertices).map_err(|_| "too many vertices")?).collect(),
     };
     let indices = triangles(mode, &list);
+    // A normal map or anisotropy needs tangents: MikkTSpace when the file gives none.
+    let material = prim.material();
+    let needs_tangents = material.normal_texture().is_some()
+        || material.extensions().is_some_and(|e| e.contains_key("KHR_materials_anisotropy"));
     let g = Geometry {
         positions: positions.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2])).collect(),
         normals: normals.map(|n| n.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2]).normalize_or_zero()).collect()),
@@ -386,7 +391,7 @@ fn read_primitive(
         tangents: tangents.map(|n| n.chunks_exact(4).map(|p| Vec4::new(p[0], p[1], p[2], p[3])).collect()),
         indices,
     };
-    Ok(Some(g))
+    Ok(Some(if needs_tangents { tangents::with_mikktspace_tangents(g) } else { g }))
 }
 
 fn dims_of(d: Dimensions) -> u64 {
