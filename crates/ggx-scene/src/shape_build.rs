@@ -106,11 +106,7 @@ impl<'a> Budget<'a> {
             return Ok(Rc::clone(g));
         }
         let used = self.bytes();
-        let left = Limits {
-            max_triangles: self.limits.max_triangles.min(MAX_SCENE_TRIANGLES).saturating_sub(self.triangles),
-            max_memory: self.limits.max_memory.saturating_sub(used),
-            ..*self.limits
-        };
+        let left = self.left(used);
         self.loads += 1;
         let geometry = load_obj(path, &left).map_err(|e| match e {
             ReadError::Io(message) => MeshError::File(message),
@@ -122,6 +118,16 @@ impl<'a> Budget<'a> {
         Ok(geometry)
     }
 
+    /// What the shapes prepared so far (`used` bytes) leave of `max_triangles` (at most
+    /// [`MAX_SCENE_TRIANGLES`]) and `max_memory`, for the next file to load within.
+    fn left(&self, used: u64) -> Limits {
+        Limits {
+            max_triangles: self.limits.max_triangles.min(MAX_SCENE_TRIANGLES).saturating_sub(self.triangles),
+            max_memory: self.limits.max_memory.saturating_sub(used),
+            ..*self.limits
+        }
+    }
+
     /// The glTF asset at `path`: loaded before for another shape, or loaded now within what
     /// the shapes before it leave of `max_triangles` and `max_memory` (its textures join
     /// [`Self::textures`]), then counted against `max_memory`.
@@ -130,12 +136,7 @@ impl<'a> Budget<'a> {
         if let Some(a) = self.assets.get(&key) {
             return Ok(Rc::clone(a));
         }
-        let used = self.bytes();
-        let left = Limits {
-            max_triangles: self.limits.max_triangles.min(MAX_SCENE_TRIANGLES).saturating_sub(self.triangles),
-            max_memory: self.limits.max_memory.saturating_sub(used),
-            ..*self.limits
-        };
+        let left = self.left(self.bytes());
         self.loads += 1;
         let textures_before = self.textures.bytes();
         let asset = crate::gltf_asset::load(path, &left, &mut self.textures)

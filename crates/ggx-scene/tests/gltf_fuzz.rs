@@ -3,9 +3,10 @@
 //! flipped, cut, spliced and overwritten. The loader must return a scene within the limits
 //! or an error that names the file; never panic, never allocate from an unchecked count. On
 //! Linux every test runs again in a child process whose address space is capped at
-//! [`ADDRESS_SPACE_CAP`], so an allocation sized by a header field aborts the child and fails
+//! [`fuzz_cases::ADDRESS_SPACE_CAP`], so an allocation sized by a header field aborts the child and fails
 //! the test. `GGX_FUZZ_CASES` sets the number of cases per target (default [`DEFAULT_CASES`]).
 
+mod fuzz_cases;
 #[allow(dead_code)]
 mod readers_support;
 
@@ -18,9 +19,6 @@ use readers_support::{Mutation, mutate, mutation};
 /// Cases per target when `GGX_FUZZ_CASES` is unset.
 const DEFAULT_CASES: u32 = 64;
 
-/// Address space of the child process on Linux.
-const ADDRESS_SPACE_CAP: u64 = 1 << 30;
-
 /// The limits the mutated files are loaded under.
 const SMALL: Limits = Limits {
     max_scene_bytes: 1 << 20,
@@ -31,33 +29,12 @@ const SMALL: Limits = Limits {
 };
 
 fn cases() -> u32 {
-    match std::env::var("GGX_FUZZ_CASES") {
-        Ok(v) => v.parse().unwrap_or_else(|e| panic!("GGX_FUZZ_CASES must be a number of cases, got {v:?}: {e}")),
-        Err(_) => DEFAULT_CASES,
-    }
+    fuzz_cases::fuzz_cases(DEFAULT_CASES)
 }
 
-/// On Linux, outside the child: runs `name` in a child process with its address space capped
-/// and asserts it passed (returns `true`); in the child, or without capping, `false`.
+/// [`fuzz_cases::ran_capped`] for this binary.
 fn ran_capped(name: &str) -> bool {
-    if !cfg!(target_os = "linux") || std::env::var_os("GGX_GLTF_FUZZ_CHILD").is_some() {
-        return false;
-    }
-    let exe = std::env::current_exe().expect("test binary path");
-    let script = format!("ulimit -v {} && exec \"$0\" \"$@\"", ADDRESS_SPACE_CAP / 1024);
-    let Ok(output) = std::process::Command::new("sh")
-        .args(["-c", &script])
-        .arg(&exe)
-        .args(["--exact", name, "--nocapture", "--test-threads=1"])
-        .env("GGX_GLTF_FUZZ_CHILD", "1")
-        .output()
-    else {
-        return false;
-    };
-    let text = format!("{}{}", String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
-    assert!(output.status.success(), "{name} failed under a {ADDRESS_SPACE_CAP}-byte address space cap:\n{text}");
-    assert!(text.contains("1 passed"), "{name} did not run in the child:\n{text}");
-    true
+    fuzz_cases::ran_capped(name, "GGX_GLTF_FUZZ_CHILD")
 }
 
 fn corpus(name: &str) -> Vec<u8> {

@@ -6,7 +6,7 @@
 //! dimension lines, OBJ indices and face sizes) and reads it under small [`Limits`]. The
 //! reader must return `Ok` with a consistent result within the limits, or an error that
 //! names the file; it must not panic or abort. On Linux every test runs again in a child
-//! process whose address space is capped at [`ADDRESS_SPACE_CAP`], so a reader that
+//! process whose address space is capped at [`fuzz_cases::ADDRESS_SPACE_CAP`], so a reader that
 //! allocates from an unchecked size aborts the child and fails the test.
 //!
 //! `GGX_FUZZ_CASES` sets the number of cases per target (default [`DEFAULT_CASES`]).
@@ -25,9 +25,6 @@ use readers_support::{
 /// Cases per proptest target when `GGX_FUZZ_CASES` is unset: about a second each in the dev
 /// profile.
 const DEFAULT_CASES: u32 = 96;
-
-/// Address space of the child process that runs each test on Linux.
-const ADDRESS_SPACE_CAP: u64 = 1 << 30;
 
 /// The small limits the mutated files are read under.
 const SMALL: Limits = Limits {
@@ -48,26 +45,9 @@ fn config() -> ProptestConfig {
     ProptestConfig { cases: cases(), failure_persistence: None, ..ProptestConfig::default() }
 }
 
-/// On Linux, outside the child: runs test `name` of this binary in a child process with its
-/// address space capped, asserts that it passed, and returns `true` (the caller returns).
-/// In the child, or where capping is not available, returns `false` (the caller runs).
+/// [`fuzz_cases::ran_capped`] for this binary.
 fn ran_capped(name: &str) -> bool {
-    if !cfg!(target_os = "linux") || std::env::var_os("GGX_READERS_CHILD").is_some() {
-        return false;
-    }
-    let exe = std::env::current_exe().expect("test binary path");
-    let script = format!("ulimit -v {} && exec \"$0\" \"$@\"", ADDRESS_SPACE_CAP / 1024);
-    let output = std::process::Command::new("sh")
-        .args(["-c", &script])
-        .arg(&exe)
-        .args(["--exact", name, "--nocapture", "--test-threads=1"])
-        .env("GGX_READERS_CHILD", "1")
-        .output();
-    let Ok(output) = output else { return false };
-    let text = format!("{}{}", String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
-    assert!(output.status.success(), "{name} failed under a {ADDRESS_SPACE_CAP}-byte address space cap:\n{text}");
-    assert!(text.contains("1 passed"), "{name} did not run in the child:\n{text}");
-    true
+    fuzz_cases::ran_capped(name, "GGX_READERS_CHILD")
 }
 
 /// A fresh directory for the files of test `name`.

@@ -32,17 +32,13 @@ fn wrap(mode: WrappingMode) -> Wrap {
 
 /// The scene texture of glTF texture `tex`: its image decoded (once), with its sampler's
 /// filter and wrap modes.
-#[allow(clippy::too_many_arguments)]
 fn texture(
-    root: &gltf::json::Root,
+    src: &Sources<'_>,
     tex: &gltf::Texture<'_>,
-    buffers: &[Vec<u8>],
-    base_dir: &Path,
-    limits: &Limits,
-    memory: u64,
     set: &mut TextureSet,
     cache: &mut ImageCache,
 ) -> Result<u32, String> {
+    let Sources { root, buffers, base_dir, limits, memory } = *src;
     let sampler = tex.sampler();
     let mut flags = (wrap(sampler.wrap_s()) as u32) << TEXTURE_WRAP_S_SHIFT
         | (wrap(sampler.wrap_t()) as u32) << TEXTURE_WRAP_T_SHIFT;
@@ -97,8 +93,7 @@ fn slot(
     ctx: &mut Ctx<'_, '_>,
 ) -> Result<TextureRef, String> {
     let Some((tex, tex_coord, transform)) = info else { return Ok(TextureRef::NONE) };
-    let index = texture(ctx.root, &tex, ctx.buffers, ctx.base_dir, ctx.limits, ctx.memory, ctx.set, ctx.cache)
-        .map_err(|e| format!("{what}: {e}"))?;
+    let index = texture(ctx.src, &tex, ctx.set, ctx.cache).map_err(|e| format!("{what}: {e}"))?;
     let coord = transform.as_ref().and_then(|t| t.tex_coord()).unwrap_or(tex_coord);
     if coord != 0 {
         ctx.warnings.push(format!("{what} reads TEXCOORD_{coord}: ggx reads TEXCOORD_0 instead"));
@@ -112,14 +107,25 @@ fn slot(
 
 /// What [`slot`] needs besides the texture info.
 struct Ctx<'a, 'b> {
-    root: &'a gltf::json::Root,
-    buffers: &'a [Vec<u8>],
-    base_dir: &'a Path,
-    limits: &'a Limits,
-    memory: u64,
+    src: &'a Sources<'a>,
     set: &'b mut TextureSet,
     cache: &'b mut ImageCache,
     warnings: &'b mut Vec<String>,
+}
+
+/// Where a glTF file's images come from and what they may take.
+#[derive(Clone, Copy)]
+pub(crate) struct Sources<'a> {
+    /// The file's JSON.
+    pub root: &'a gltf::json::Root,
+    /// Its buffers, read.
+    pub buffers: &'a [Vec<u8>],
+    /// The directory its relative URIs resolve against.
+    pub base_dir: &'a Path,
+    /// The limits images are read within.
+    pub limits: &'a Limits,
+    /// Bytes of memory the textures may still take.
+    pub memory: u64,
 }
 
 /// `[0, 1]`, NaN as `default`.
@@ -136,21 +142,16 @@ fn info(i: Option<gltf::texture::Info<'_>>) -> Option<InfoParts<'_>> {
 
 /// Converts glTF material `m`: Appendix B's metallic-roughness model, or ggx's dielectric for
 /// a transmissive one ([`transmissive`]).
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn convert(
-    root: &gltf::json::Root,
     m: &gltf::Material<'_>,
-    buffers: &[Vec<u8>],
-    base_dir: &Path,
-    limits: &Limits,
-    memory: u64,
+    src: &Sources<'_>,
     set: &mut TextureSet,
     cache: &mut ImageCache,
     warnings: &mut Vec<String>,
 ) -> Result<Material, String> {
     let name = m.name().map_or_else(|| format!("materials[{}]", m.index().map_or(0, |i| i)), str::to_owned);
     let mut notes = Vec::new();
-    let mut ctx = Ctx { root, buffers, base_dir, limits, memory, set, cache, warnings: &mut notes };
+    let mut ctx = Ctx { src, set, cache, warnings: &mut notes };
     let pbr = m.pbr_metallic_roughness();
     let [r, g, b, _] = pbr.base_color_factor();
     let base_color_texture = slot(info(pbr.base_color_texture()), "baseColorTexture", 0, true, &mut ctx)?;

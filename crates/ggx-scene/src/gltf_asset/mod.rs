@@ -200,18 +200,15 @@ pub(crate) fn load(path: &Path, limits: &Limits, textures: &mut TextureSet) -> R
             (Some(i), None) => format!("material {i}"),
             (None, _) => "default".to_owned(),
         };
-        let converted = material::convert(
-            gltf.document.as_json(),
-            m,
-            &buffers,
+        let sources = material::Sources {
+            root: gltf.document.as_json(),
+            buffers: &buffers,
             base_dir,
             limits,
-            memory.saturating_sub(bytes_used),
-            textures,
-            &mut images,
-            &mut warnings,
-        )
-        .map_err(|e| file(format!("materials[{}]: {e}", index.map_or("default".to_owned(), |i| i.to_string()))))?;
+            memory: memory.saturating_sub(bytes_used),
+        };
+        let converted = material::convert(m, &sources, textures, &mut images, &mut warnings)
+            .map_err(|e| file(format!("materials[{}]: {e}", index.map_or("default".to_owned(), |i| i.to_string()))))?;
         materials.push((name, converted));
     }
     if images.occlusion {
