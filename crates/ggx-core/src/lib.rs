@@ -51,6 +51,7 @@ extern crate std;
 pub mod alpha;
 pub mod batch;
 mod bxdf;
+pub mod clearcoat;
 mod conductor;
 mod conductor_ms;
 mod dielectric;
@@ -78,6 +79,7 @@ pub mod warp;
 
 pub use alpha::{ALPHA_MAX, ALPHA_MIN, DELTA_ALPHA, alpha_to_roughness, roughness_to_alpha};
 pub use bxdf::{Bxdf, BxdfFlags, TransportMode};
+pub use clearcoat::GltfClearcoat;
 pub use conductor::{BsdfSample, GgxConductor};
 pub use conductor_ms::GgxConductorMs;
 pub use dielectric::{ETA_MAX, ETA_MIN, GgxDielectric, clamp_eta, refract};

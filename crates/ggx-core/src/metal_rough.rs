@@ -116,6 +116,19 @@ pub struct GltfMetalRough {
     pub pad: u32,
 }
 
+/// View-independent albedo estimates `(a_s, a_d)` of the specular and diffuse lobes with
+/// Schlick's hemispherical average `F_avg(f0) = f0 + (1 - f0) / 21`: `a_s = m mean(F_avg(base))
+/// + (1 - m) sw F_avg(f0_max)`, `a_d = (1 - m) max(1 - sw F_avg(f0_max), 0) mean(base)`.
+#[inline]
+fn lobe_albedos(base: Vec3, metallic: f32, f0_max: f32, specular_weight: f32) -> (f32, f32) {
+    let f_avg = |f0: f32| f0 + (1.0 - f0) * SCHLICK_GRAZING_AVERAGE;
+    let f_avg_d = f_avg(f0_max);
+    let a_s = metallic * mean(Vec3::new(f_avg(base.x), f_avg(base.y), f_avg(base.z)))
+        + (1.0 - metallic) * specular_weight * f_avg_d;
+    let a_d = (1.0 - metallic) * (1.0 - specular_weight * f_avg_d).max(0.0) * mean(base);
+    (a_s, a_d)
+}
+
 impl GltfMetalRough {
     /// The BRDF from glTF material parameters, every one sanitized: `base_color` channels,
     /// `metallic` and `specular_weight` NaN or infinite -> 1 (glTF's defaults), then clamped
@@ -147,11 +160,7 @@ impl GltfMetalRough {
         let metallic = unit_or_one(metallic);
         let specular_weight = unit_or_one(specular_weight);
         let f0 = dielectric_f0(ior, specular_color);
-        let f_avg = |f0: f32| f0 + (1.0 - f0) * SCHLICK_GRAZING_AVERAGE;
-        let f_avg_d = f_avg(f0.max_element());
-        let a_s = metallic * mean(Vec3::new(f_avg(base.x), f_avg(base.y), f_avg(base.z)))
-            + (1.0 - metallic) * specular_weight * f_avg_d;
-        let a_d = (1.0 - metallic) * (1.0 - specular_weight * f_avg_d).max(0.0) * mean(base);
+        let (a_s, a_d) = lobe_albedos(base, metallic, f0.max_element(), specular_weight);
         let p_specular = if !(a_s > 0.0) {
             0.0
         } else if !(a_d > 0.0) {
@@ -168,6 +177,17 @@ impl GltfMetalRough {
             p_specular,
             pad: 0,
         }
+    }
+
+    /// `a_s + a_d` of [`lobe_albedos`] from the stored fields (each read clamped to `[0, 1]`):
+    /// the BRDF's view-independent albedo estimate, in `[0, 1]`.
+    #[inline]
+    pub fn albedo_estimate(&self) -> f32 {
+        let [r, g, b] = self.base_color.map(unit);
+        let [x, y, z] = self.f0.map(unit);
+        let (a_s, a_d) =
+            lobe_albedos(Vec3::new(r, g, b), unit(self.metallic), x.max(y).max(z), unit(self.specular_weight));
+        unit(a_s + a_d)
     }
 
     /// glTF's core material without extensions: `ior = 1.5`, `specular_color = 1`,

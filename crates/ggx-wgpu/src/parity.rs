@@ -1104,6 +1104,32 @@ mod tests {
         }
     }
 
+    /// `GltfClearcoat` in ggx_core.wgsl has the Rust struct's size and member offsets (the base
+    /// a `GltfMetalRough` at 0, 16-aligned in WGSL as well), and the parity rows' packing of it into
+    /// a conductor (parity.wgsl `clearcoat`) loses nothing.
+    #[test]
+    fn gltf_clearcoat_layout_and_packing() {
+        use ggx_core::GltfClearcoat;
+        let module = naga::front::wgsl::parse_str(crate::GGX_CORE_WGSL).expect("ggx_core.wgsl parses");
+        let ty = module.types.iter().find(|(_, t)| t.name.as_deref() == Some("GltfClearcoat")).expect("struct").1;
+        let naga::TypeInner::Struct { members, span } = &ty.inner else { panic!("GltfClearcoat is a struct") };
+        let wgsl: Vec<(String, u32)> = members.iter().map(|m| (m.name.clone().unwrap(), m.offset)).collect();
+        let rust = [
+            ("base", std::mem::offset_of!(GltfClearcoat, base)),
+            ("coat", std::mem::offset_of!(GltfClearcoat, coat)),
+            ("weight", std::mem::offset_of!(GltfClearcoat, weight)),
+            ("base_albedo", std::mem::offset_of!(GltfClearcoat, base_albedo)),
+        ]
+        .map(|(n, o)| (n.to_string(), o as u32));
+        assert_eq!(wgsl, rust);
+        assert_eq!(*span as usize, size_of::<GltfClearcoat>());
+        assert_eq!(size_of::<GltfClearcoat>(), 64);
+        for c in cases::clearcoats() {
+            let back = cases::unpack_clearcoat(&cases::pack_clearcoat(&c));
+            assert_eq!(bytemuck::bytes_of(&back), bytemuck::bytes_of(&c));
+        }
+    }
+
     #[test]
     fn ulp_distance_and_bounds() {
         assert_eq!(ulp_distance(1.0, 1.0), 0);

@@ -2,12 +2,13 @@
 //! of energy.wgsl are in `energy_cases.rs`.
 
 use bytemuck::{Pod, Zeroable};
+use ggx_core::clearcoat::{clearcoat_fresnel, metal_rough_albedo_estimate};
 use ggx_core::fresnel::{FresnelParams, fresnel_complex, fresnel_dielectric, fresnel_schlick};
 use ggx_core::metal_rough::{clamp_ior, dielectric_f0};
 use ggx_core::sequence::{self as seq, CounterRng, SampleStream, SequenceKind};
 use ggx_core::{
-    BsdfSample, Frame, Fresnel, GgxConductor, GgxDielectric, GltfMetalRough, Sampling, TransportMode, TrowbridgeReitz,
-    alpha, clamp_eta, math, mis, reflect, refract, warp,
+    BsdfSample, Frame, Fresnel, GgxConductor, GgxDielectric, GltfClearcoat, GltfMetalRough, Sampling, TransportMode,
+    TrowbridgeReitz, alpha, clamp_eta, math, mis, reflect, refract, warp,
 };
 use glam::{Vec2, Vec3};
 
@@ -709,6 +710,98 @@ fn metal_rough_words(m: &GltfMetalRough) -> Vec<Expect> {
             .concat(),
     );
     e.extend(words(&[m.pad]));
+    e
+}
+
+/// A clearcoat in the conductor slot of a case (parity.wgsl `clearcoat` unpacks it): the base as
+/// [`pack_metal_rough`] packs it, the coat's alphas (bits) in `pad`, `weight` and `base_albedo`
+/// (bits) in `fresnel.pad`, the four words the base leaves free.
+pub(super) fn pack_clearcoat(c: &GltfClearcoat) -> GgxConductor {
+    let mut k = pack_metal_rough(&c.base);
+    k.pad = [c.coat.alpha_x.to_bits(), c.coat.alpha_y.to_bits()];
+    k.fresnel.pad = [c.weight.to_bits(), c.base_albedo.to_bits()];
+    k
+}
+
+/// The inverse of [`pack_clearcoat`].
+pub(super) fn unpack_clearcoat(k: &GgxConductor) -> GltfClearcoat {
+    GltfClearcoat {
+        base: unpack_metal_rough(k),
+        coat: TrowbridgeReitz { alpha_x: f32::from_bits(k.pad[0]), alpha_y: f32::from_bits(k.pad[1]) },
+        weight: f32::from_bits(k.fresnel.pad[0]),
+        base_albedo: f32::from_bits(k.fresnel.pad[1]),
+    }
+}
+
+/// Clearcoats: every base of [`metal_roughs`] (every alpha edge, lone lobes, raw fields) under a
+/// coat weight (none, thin, half, full) and a coat alpha (mirrors, both sides of `DELTA_ALPHA`,
+/// rough) in turn; and fields that bypass the constructor: NaN, infinite, negative, signed-zero
+/// and above-one weights and base albedos, raw coat alphas, a coat over a black base (`p_c` at
+/// its maximum). No subnormal weight: an adapter may flush it to 0, which takes the other branch.
+pub(super) fn clearcoats() -> Vec<GltfClearcoat> {
+    let weights = [1.0, 0.5, 0.0, 0.25, 1e-3];
+    let coat_alphas = [0.01, 0.0, 0.3, 1e-3, 1.0, 5e-4, 0.09];
+    let constructed = metal_roughs()
+        .into_iter()
+        .enumerate()
+        .map(move |(i, m)| GltfClearcoat::new(m, weights[i % weights.len()], coat_alphas[i % coat_alphas.len()]));
+    let base = GltfMetalRough::core(Vec3::new(0.8, 0.5, 0.2), 0.3, 0.2);
+    let black = GltfMetalRough::new(Vec3::ZERO, 0.0, 0.3, 0.3, 1.5, Vec3::ONE, 0.0);
+    let mirror = GltfMetalRough::core(Vec3::new(0.9, 0.6, 0.3), 0.5, 0.0);
+    let raw = |base, weight, (alpha_x, alpha_y), base_albedo| GltfClearcoat {
+        base,
+        coat: TrowbridgeReitz { alpha_x, alpha_y },
+        weight,
+        base_albedo,
+    };
+    let raw = [
+        raw(base, NAN, (0.1, 0.1), 0.5),
+        raw(base, INF, (0.1, 0.1), 0.5),
+        raw(base, -1.0, (0.1, 0.1), 0.5),
+        raw(base, -0.0, (0.3, 0.3), 0.5),
+        raw(base, 2.0, (0.1, 0.1), NAN),
+        raw(base, 0.7, (NAN, 0.3), -1.0),
+        raw(base, 0.7, (-0.3, -0.3), 2.0),
+        raw(base, ONE_MINUS_ULP, (2.0, 1e-40), 1e-45),
+        raw(black, 1.0, (0.2, 0.2), 0.0),
+        raw(black, 1e-30, (0.2, 0.2), 0.0),
+        raw(black, 0.5, (0.0, 0.0), INF),
+        raw(mirror, 0.8, (0.0, 0.0), 0.6),
+        raw(mirror, 0.8, (0.2, 0.2), -INF),
+    ];
+    constructed.chain(raw).collect()
+}
+
+/// [`sample_at_gpu_wi`] for `gltf_clearcoat_sample` (the clearcoat unpacked from the case's
+/// conductor): ggx-core's `pdf` and `eval / pdf` at the GPU's `wi`.
+fn clearcoat_sample_at_gpu_wi(
+    i: &Input,
+    k: &GgxConductor,
+    _: &GgxDielectric,
+    got: &[u32],
+    cpu: &[Expect],
+) -> Option<Vec<Expect>> {
+    let wi = differing_gpu_wi(got, cpu)?;
+    let (wo, c) = (i.va(), unpack_clearcoat(k));
+    let pdf = c.pdf(wo, wi, Sampling::from_u32(i.n[0]));
+    Some(rebased(cpu, c.eval(wo, wi) / pdf, pdf))
+}
+
+/// A `GltfClearcoat`'s 16 output words (`put_clearcoat` in parity.wgsl): the base, the coat's
+/// alphas and the weight copied or clamped (exactly), `base_albedo` (sums of products whose
+/// `1 - sw F_avg` may cancel; in `[0, 1]`) to [`UNIT`].
+const CLEARCOAT_GROUPS: [Group; 5] = [
+    Group::float("base", 11, Bound::Exact),
+    Group::bits("base.pad", 1),
+    Group::float("coat", 2, Bound::Exact),
+    Group::float("weight", 1, Bound::Exact),
+    Group::float("base_albedo", 1, UNIT),
+];
+
+/// The words of a `GltfClearcoat` for [`CLEARCOAT_GROUPS`].
+fn clearcoat_words(c: &GltfClearcoat) -> Vec<Expect> {
+    let mut e = metal_rough_words(&c.base);
+    e.extend(floats(&[c.coat.alpha_x, c.coat.alpha_y, c.weight, c.base_albedo]));
     e
 }
 
@@ -1476,6 +1569,106 @@ pub(super) fn specs() -> Vec<Spec> {
         sample_words(unpack_metal_rough(k).sample(i.va(), i.u(), i.c[2], Sampling::from_u32(i.n[0])))
     })
     .rebase(metal_rough_sample_at_gpu_wi, "weight, pdf: cpu at the gpu's wi");
+
+    // clearcoat.rs
+    let fresnel_cases = scalars().into_iter().chain(FRESNEL_COS).map(|x| (Input::scalar(x), none()));
+    s.row("clearcoat_fresnel", &[Group::value(FEW_OPS)], fresnel_cases, |i, _| floats(&[clearcoat_fresnel(i.a[0])]));
+    // 1 - sw F_avg(max f0) cancels where sw F_avg nears one: absolute in [0, 1].
+    s.row(
+        "metal_rough_albedo_estimate",
+        &[Group::value(UNIT)],
+        metal_roughs().into_iter().map(|m| (Input::default(), pack_metal_rough(&m))),
+        |_, k| floats(&[metal_rough_albedo_estimate(&unpack_metal_rough(k))]),
+    );
+    // Bases with finite fields only (the row copies them to its output), every weight and alpha edge.
+    let finite_bases = metal_roughs().into_iter().filter(|m| {
+        let d = m.distribution;
+        [m.base_color, m.f0]
+            .concat()
+            .into_iter()
+            .chain([m.metallic, m.specular_weight, d.alpha_x, d.alpha_y, m.p_specular])
+            .all(f32::is_finite)
+    });
+    let new_weights = [0.0, 0.5, 1.0, 0.25, NAN, INF, -INF, -1.0, 2.0, 1e-30, ONE_MINUS_ULP, -0.0];
+    let new_alphas = [0.0, 5e-4, 1e-3, 0.01, 0.3, 1.0, NAN, 2.0, -1.0, INF];
+    let new_cases = finite_bases.flat_map(|m| {
+        new_weights.into_iter().flat_map(move |w| {
+            new_alphas.map(|a| (Input { a: [w, a, 0.0, 0.0], ..Default::default() }, pack_metal_rough(&m)))
+        })
+    });
+    s.row("gltf_clearcoat_new", &CLEARCOAT_GROUPS, new_cases, |i, k| {
+        clearcoat_words(&GltfClearcoat::new(unpack_metal_rough(k), i.a[0], i.a[1]))
+    });
+    let coats = || clearcoats().into_iter().map(|c| pack_clearcoat(&c));
+    s.row(
+        "gltf_clearcoat_coat_weight",
+        &[Group::value(Bound::Exact)],
+        coats().map(|k| (Input::default(), k)),
+        |_, k| floats(&[unpack_clearcoat(k).coat_weight()]),
+    );
+    s.row(
+        "gltf_clearcoat_coat_is_delta",
+        &[Group::bits("delta", 1)],
+        coats().map(|k| (Input::default(), k)),
+        |_, k| words(&[unpack_clearcoat(k).coat_is_delta() as u32]),
+    );
+    s.row(
+        "gltf_clearcoat_coat_lobe",
+        &[Group::bits("alpha", 2), Group::bits("pad", 2), Group::bits("fresnel", 12)],
+        coats().map(|k| (Input::default(), k)),
+        |_, k| words(bytemuck::cast_slice::<GgxConductor, u32>(&[unpack_clearcoat(k).coat_lobe()])),
+    );
+    let cos_cases =
+        || coats().flat_map(|k| FRESNEL_COS.map(|c| (Input { c: [c, 0.0, 0.0, 0.0], ..Default::default() }, k)));
+    s.row("gltf_clearcoat_coat_mix", &[Group::value(FORMULA)], cos_cases(), |i, k| {
+        floats(&[unpack_clearcoat(k).coat_mix(i.c[0])])
+    });
+    // A polynomial of |cos| (in [0, 1], no cancellation: relative).
+    s.row("gltf_clearcoat_base_mix", &[Group::value(FORMULA)], cos_cases(), |i, k| {
+        floats(&[unpack_clearcoat(k).base_mix(i.c[0])])
+    });
+    // A ratio of sums, clamped to [0.05, 0.95]: absolute in [0, 1].
+    s.row("gltf_clearcoat_coat_probability", &[Group::value(UNIT)], cos_cases(), |i, k| {
+        floats(&[unpack_clearcoat(k).coat_probability(i.c[0])])
+    });
+    let clearcoat_pairs = || {
+        coats().flat_map(|k| {
+            few_directions().into_iter().flat_map(move |a| few_directions().into_iter().map(move |b| (a, b, k)))
+        })
+    };
+    s.row(
+        "gltf_clearcoat_eval",
+        &[Group::float("rgb", 3, FORMULA)],
+        clearcoat_pairs().map(|(a, b, k)| (Input::pair(a, b), k)),
+        |i, k| floats(&v3(unpack_clearcoat(k).eval(i.va(), i.vb()))),
+    );
+    let pdf_cases =
+        clearcoat_pairs().flat_map(|(a, b, k)| SAMPLINGS.map(|t| (Input { n: [t, 0, 0, 0], ..Input::pair(a, b) }, k)));
+    s.row("gltf_clearcoat_pdf", &[Group::value(FORMULA)], pdf_cases, |i, k| {
+        floats(&[unpack_clearcoat(k).pdf(i.va(), i.vb(), Sampling::from_u32(i.n[0]))])
+    });
+    // Not the base with the raw p_specular = 1 - 2^-24: every u_lobe >= 1 - 2^-24 (sanitize_u)
+    // rescales to (1 - 2^-24 - p_c) / (1 - p_c), within an ulp of it, so the base's lobe would
+    // depend on the last bit of a division, which Vulkan leaves to 2.5 ulp (gltf_metal_rough_sample
+    // has the raw field in its own rows, where u_lobe is compared as given).
+    let few_u = us(&[0.0, 0.25, 0.5, 0.77, ONE_MINUS_ULP]);
+    let sample_coats = coats().filter(|k| unpack_clearcoat(k).base.p_specular != ONE_MINUS_ULP);
+    let sample_cases = sample_coats.flat_map(|k| {
+        let few_u = few_u.clone();
+        wo_directions().into_iter().flat_map(move |wo| {
+            let few_u = few_u.clone();
+            SAMPLINGS.into_iter().flat_map(move |t| {
+                few_u.clone().into_iter().enumerate().map(move |(j, u)| {
+                    let c = [u.x, u.y, U_LOBES[j % U_LOBES.len()], 0.0];
+                    (Input { c, n: [t, 0, 0, 0], ..Input::dir(wo) }, k)
+                })
+            })
+        })
+    });
+    s.row("gltf_clearcoat_sample", &SAMPLE_GROUPS, sample_cases, |i, k| {
+        sample_words(unpack_clearcoat(k).sample(i.va(), i.u(), i.c[2], Sampling::from_u32(i.n[0])))
+    })
+    .rebase(clearcoat_sample_at_gpu_wi, "weight, pdf: cpu at the gpu's wi");
 
     // energy.wgsl
     energy::energy_specs(&mut s);

@@ -1509,3 +1509,170 @@ fn sample_stream_next_2d(stream: ptr<function, SampleStream>) -> vec2<f32> {
     }
     return vec2(u32_to_unit_f32(xy.x), u32_to_unit_f32(xy.y));
 }
+
+// ---------------------------------------------------------------------------------------------
+// clearcoat.rs: GltfClearcoat
+// ---------------------------------------------------------------------------------------------
+
+// The coat's normal-incidence reflectance ((1 - ior) / (1 + ior))^2 at KHR_materials_clearcoat's ior 1.5.
+const CLEARCOAT_F0: f32 = 0.04f;
+// Smallest and largest probability with which gltf_clearcoat_sample draws a present coat lobe.
+const P_COAT_MIN: f32 = 0.05f;
+const P_COAT_MAX: f32 = 0.95f;
+
+// KHR_materials_clearcoat over the metallic-roughness BRDF, 64 bytes like the Rust struct: base 0,
+// coat 48, weight 56, base_albedo 60.
+struct GltfClearcoat {
+    base: GltfMetalRough,
+    coat: TrowbridgeReitz,
+    weight: f32,
+    base_albedo: f32,
+}
+
+// fr(mu) = 0.04 + 0.96 (1 - |mu|)^5, at most 1, NaN -> 1; KHR_materials_clearcoat fresnel_coat.
+fn clearcoat_fresnel(cos_theta: f32) -> f32 {
+    return min_num(fresnel_schlick(abs(cos_theta), vec3(CLEARCOAT_F0), vec3(1.0)).x, 1.0);
+}
+
+// m mean(F_avg(base)) + (1 - m) (sw F_avg(max f0) + max(1 - sw F_avg(max f0), 0) mean(base)), in [0, 1];
+// GltfMetalRough::new's a_s + a_d with F_avg(f0) = f0 + (1 - f0) / 21.
+fn metal_rough_albedo_estimate(base: GltfMetalRough) -> f32 {
+    let c = metal_rough_unit3(base.base_color);
+    let mean_base = (c.x + c.y + c.z) * (1.0 / 3.0);
+    let mean_f_avg = (metal_rough_f_avg(c.x) + metal_rough_f_avg(c.y) + metal_rough_f_avg(c.z)) * (1.0 / 3.0);
+    let metallic = fresnel_unit(base.metallic);
+    let specular_weight = fresnel_unit(base.specular_weight);
+    let f0 = metal_rough_unit3(base.f0);
+    let f_avg_d = specular_weight * metal_rough_f_avg(max_num(max_num(f0.x, f0.y), f0.z));
+    let dielectric = f_avg_d + max_num(1.0 - f_avg_d, 0.0) * mean_base;
+    return fresnel_unit(metallic * mean_f_avg + (1.0 - metallic) * dielectric);
+}
+
+// weight NaN, inf -> 0 then [0, 1]; coat = trowbridge_reitz_new(alpha, alpha); base_albedo = metal_rough_albedo_estimate(base).
+fn gltf_clearcoat_new(base: GltfMetalRough, weight_in: f32, coat_alpha: f32) -> GltfClearcoat {
+    let weight = select(0.0, fresnel_unit(weight_in), is_finite(weight_in));
+    return GltfClearcoat(base, trowbridge_reitz_new(coat_alpha, coat_alpha), weight, metal_rough_albedo_estimate(base));
+}
+
+// clamp(weight, 0, 1), NaN -> 0 (clearcoatFactor as every function reads it).
+fn gltf_clearcoat_coat_weight(b: GltfClearcoat) -> f32 {
+    return fresnel_unit(b.weight);
+}
+
+// Mirror coat: both coat alphas below DELTA_ALPHA.
+fn gltf_clearcoat_coat_is_delta(b: GltfClearcoat) -> bool {
+    return is_effectively_smooth(b.coat);
+}
+
+// The coat lobe D G2 / (4 |wo.z| |wi.z|): GgxConductor of the coat with F = 1 (clearcoat_brdf).
+fn gltf_clearcoat_coat_lobe(b: GltfClearcoat) -> GgxConductor {
+    let one = FresnelParams(FRESNEL_KIND_ONE, 1.0, vec2(0u), vec4(0.0), vec4(0.0));
+    return GgxConductor(b.coat, vec2(0u), one);
+}
+
+// c = weight fr(cos), fresnel_coat's mix factor at cos = wo.z; KHR_materials_clearcoat.
+fn gltf_clearcoat_coat_mix(b: GltfClearcoat, cos_theta: f32) -> f32 {
+    return gltf_clearcoat_coat_weight(b) * clearcoat_fresnel(cos_theta);
+}
+
+// 1 - c = (1 - weight) + weight (1 - f0) (1 - (1 - |cos|)^5), 1 - (1 - x)^5 = x (5 - 10 x + 10 x^2 - 5 x^3 + x^4)
+// below x = 1/2 (no cancellation at grazing views); fresnel_coat's base share.
+fn gltf_clearcoat_base_mix(b: GltfClearcoat, cos_theta: f32) -> f32 {
+    let w = gltf_clearcoat_coat_weight(b);
+    let x = min_num(max_num(abs(cos_theta), 0.0), 1.0);
+    var grazing: f32;
+    if x < 0.5 {
+        grazing = x * (5.0 + x * (-10.0 + x * (10.0 + x * (-5.0 + x))));
+    } else {
+        let m = 1.0 - x;
+        let m2 = m * m;
+        grazing = 1.0 - m2 * m2 * m;
+    }
+    return min_num((1.0 - w) + w * (1.0 - CLEARCOAT_F0) * grazing, 1.0);
+}
+
+// p_c = clamp(c / (c + (1 - c) a_b), 0.05, 0.95) (NaN -> 0.05), 1 - c = base_mix, a_b = clamp(base_albedo, 0, 1); 0 without a coat.
+fn gltf_clearcoat_coat_probability(b: GltfClearcoat, cos_theta: f32) -> f32 {
+    if !(gltf_clearcoat_coat_weight(b) > 0.0) {
+        return 0.0;
+    }
+    let c = gltf_clearcoat_coat_mix(b, cos_theta);
+    let p = c / (c + gltf_clearcoat_base_mix(b, cos_theta) * fresnel_unit(b.base_albedo));
+    return min_num(max_num(p, P_COAT_MIN), P_COAT_MAX);
+}
+
+// f |wi.z| = (1 - c) base + c coat_lobe, c = weight fr(wo.z), 1 - c = base_mix; KHR_materials_clearcoat fresnel_coat. Weight 0: the base.
+fn gltf_clearcoat_eval(b: GltfClearcoat, wo_in: vec3<f32>, wi_in: vec3<f32>) -> vec3<f32> {
+    if !(gltf_clearcoat_coat_weight(b) > 0.0) {
+        return gltf_metal_rough_eval(b.base, wo_in, wi_in);
+    }
+    let wo = normalize_or_zero(wo_in);
+    let wi = normalize_or_zero(wi_in);
+    if !(wo.z > 0.0 && wi.z > 0.0) {
+        return vec3(0.0);
+    }
+    let base = gltf_metal_rough_eval(b.base, wo, wi) * gltf_clearcoat_base_mix(b, wo.z);
+    return base + ggx_conductor_eval(gltf_clearcoat_coat_lobe(b), wo, wi) * gltf_clearcoat_coat_mix(b, wo.z);
+}
+
+// p_c pdf_coat + (1 - p_c) pdf_base, p_c = gltf_clearcoat_coat_probability(wo.z). Weight 0: the base.
+fn gltf_clearcoat_pdf(b: GltfClearcoat, wo_in: vec3<f32>, wi_in: vec3<f32>, sampling: u32) -> f32 {
+    if !(gltf_clearcoat_coat_weight(b) > 0.0) {
+        return gltf_metal_rough_pdf(b.base, wo_in, wi_in, sampling);
+    }
+    let wo = normalize_or_zero(wo_in);
+    let wi = normalize_or_zero(wi_in);
+    if !(wo.z > 0.0 && wi.z > 0.0) {
+        return 0.0;
+    }
+    let p = gltf_clearcoat_coat_probability(b, wo.z);
+    let pdf_coat = ggx_conductor_pdf(gltf_clearcoat_coat_lobe(b), wo, wi, sampling);
+    return p * pdf_coat + (1.0 - p) * gltf_metal_rough_pdf(b.base, wo, wi, sampling);
+}
+
+// The coat lobe when u_lobe < p_c, else gltf_metal_rough_sample with u_lobe' = (u_lobe - p_c) / (1 - p_c); weight =
+// eval / pdf. Deltas: a mirror coat (c / p_c, pdf p_c), a mirror base ((1 - c) F_s / pdf, pdf (1 - p_c) p_s).
+fn gltf_clearcoat_sample(b: GltfClearcoat, wo_in: vec3<f32>, u: vec2<f32>, u_lobe_in: f32, sampling: u32) -> BsdfSample {
+    if !(gltf_clearcoat_coat_weight(b) > 0.0) {
+        return gltf_metal_rough_sample(b.base, wo_in, u, u_lobe_in, sampling);
+    }
+    var none: BsdfSample;
+    let wo = normalize_or_zero(wo_in);
+    if !(wo.z > 0.0) {
+        return none;
+    }
+    let p = gltf_clearcoat_coat_probability(b, wo.z);
+    let u_lobe = sanitize_u(u_lobe_in);
+    var wi: vec3<f32>;
+    if u_lobe < p {
+        let s = ggx_conductor_sample(gltf_clearcoat_coat_lobe(b), wo, u, sampling);
+        if s.valid == 0u {
+            return none;
+        }
+        if s.is_delta != 0u {
+            return BsdfSample(s.wi, vec3(gltf_clearcoat_coat_mix(b, wo.z) / p), p, 1u, 1u);
+        }
+        wi = s.wi;
+    } else {
+        // Uniform on [0, 1) again (gltf_metal_rough_sample's sanitize_u catches a quotient rounded to 1).
+        let s = gltf_metal_rough_sample(b.base, wo, u, (u_lobe - p) / (1.0 - p), sampling);
+        if s.valid == 0u {
+            return none;
+        }
+        if s.is_delta != 0u {
+            let pdf = (1.0 - p) * s.pdf;
+            let weight = gltf_metal_rough_specular_fresnel(b.base, wo.z) * gltf_clearcoat_base_mix(b, wo.z) / pdf;
+            if !(pdf > 0.0 && is_finite3(weight)) {
+                return none;
+            }
+            return BsdfSample(s.wi, weight, pdf, 1u, 1u);
+        }
+        wi = s.wi;
+    }
+    let pdf = gltf_clearcoat_pdf(b, wo, wi, sampling);
+    let weight = gltf_clearcoat_eval(b, wo, wi) / pdf;
+    if !(pdf > 0.0 && is_finite(pdf) && is_finite3(weight)) {
+        return none;
+    }
+    return BsdfSample(wi, weight, pdf, 0u, 1u);
+}

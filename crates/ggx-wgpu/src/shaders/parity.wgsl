@@ -142,6 +142,19 @@ const F_GLTF_METAL_ROUGH_DIFFUSE_WEIGHT: u32 = 100u;
 const F_GLTF_METAL_ROUGH_EVAL: u32 = 101u;
 const F_GLTF_METAL_ROUGH_PDF: u32 = 102u;
 const F_GLTF_METAL_ROUGH_SAMPLE: u32 = 103u;
+// clearcoat.rs.
+const F_CLEARCOAT_FRESNEL: u32 = 104u;
+const F_METAL_ROUGH_ALBEDO_ESTIMATE: u32 = 105u;
+const F_GLTF_CLEARCOAT_NEW: u32 = 106u;
+const F_GLTF_CLEARCOAT_COAT_WEIGHT: u32 = 107u;
+const F_GLTF_CLEARCOAT_COAT_IS_DELTA: u32 = 108u;
+const F_GLTF_CLEARCOAT_COAT_LOBE: u32 = 109u;
+const F_GLTF_CLEARCOAT_COAT_MIX: u32 = 110u;
+const F_GLTF_CLEARCOAT_COAT_PROBABILITY: u32 = 111u;
+const F_GLTF_CLEARCOAT_EVAL: u32 = 112u;
+const F_GLTF_CLEARCOAT_PDF: u32 = 113u;
+const F_GLTF_CLEARCOAT_SAMPLE: u32 = 114u;
+const F_GLTF_CLEARCOAT_BASE_MIX: u32 = 115u;
 
 var<private> out_base: u32;
 
@@ -205,6 +218,24 @@ fn put_metal_rough(b: GltfMetalRough) {
     put_f(9u, b.distribution.alpha_y);
     put_f(10u, b.p_specular);
     put_u(11u, b.pad);
+}
+
+// The clearcoat of a case, packed into the case's conductor (parity/cases.rs `pack_clearcoat`): the
+// base as `metal_rough` unpacks it, the coat's alphas (bits) in pad, weight and base_albedo (bits)
+// in fresnel.pad.
+fn clearcoat(bsdf: GgxConductor) -> GltfClearcoat {
+    let coat = TrowbridgeReitz(bitcast<f32>(bsdf.pad.x), bitcast<f32>(bsdf.pad.y));
+    let f = bsdf.fresnel;
+    return GltfClearcoat(metal_rough(bsdf), coat, bitcast<f32>(f.pad.x), bitcast<f32>(f.pad.y));
+}
+
+// A GltfClearcoat's words: the base's (put_metal_rough), the coat's alphas, weight, base_albedo.
+fn put_clearcoat(b: GltfClearcoat) {
+    put_metal_rough(b.base);
+    put_f(12u, b.coat.alpha_x);
+    put_f(13u, b.coat.alpha_y);
+    put_f(14u, b.weight);
+    put_f(15u, b.base_albedo);
 }
 
 // Behaviour of builtins and arithmetic on special values; inputs come from the buffer so that
@@ -628,6 +659,63 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         }
         case F_GLTF_METAL_ROUGH_SAMPLE: {
             put_sample(gltf_metal_rough_sample(metal_rough(bsdf), p.a.xyz, p.c.xy, p.c.z, p.n.x));
+        }
+        // clearcoat.rs. clearcoat_fresnel reads cos in a.x; metal_rough_albedo_estimate the base
+        // from the case's conductor (`metal_rough`); gltf_clearcoat_new the base likewise, the
+        // weight in a.x and the coat alpha in a.y. The method rows read the clearcoat from the
+        // case's conductor (`clearcoat`), wo in a, wi in b, cos in c.x, u and u_lobe in c.xyz,
+        // sampling in n.x.
+        case F_CLEARCOAT_FRESNEL: {
+            put_f(0u, clearcoat_fresnel(p.a.x));
+        }
+        case F_METAL_ROUGH_ALBEDO_ESTIMATE: {
+            put_f(0u, metal_rough_albedo_estimate(metal_rough(bsdf)));
+        }
+        case F_GLTF_CLEARCOAT_NEW: {
+            put_clearcoat(gltf_clearcoat_new(metal_rough(bsdf), p.a.x, p.a.y));
+        }
+        case F_GLTF_CLEARCOAT_COAT_WEIGHT: {
+            put_f(0u, gltf_clearcoat_coat_weight(clearcoat(bsdf)));
+        }
+        case F_GLTF_CLEARCOAT_COAT_IS_DELTA: {
+            put_b(0u, gltf_clearcoat_coat_is_delta(clearcoat(bsdf)));
+        }
+        case F_GLTF_CLEARCOAT_COAT_LOBE: {
+            let k = gltf_clearcoat_coat_lobe(clearcoat(bsdf));
+            put_f(0u, k.distribution.alpha_x);
+            put_f(1u, k.distribution.alpha_y);
+            put_u(2u, k.pad.x);
+            put_u(3u, k.pad.y);
+            put_u(4u, k.fresnel.kind);
+            put_f(5u, k.fresnel.eta);
+            put_u(6u, k.fresnel.pad.x);
+            put_u(7u, k.fresnel.pad.y);
+            put_f(8u, k.fresnel.a.x);
+            put_f(9u, k.fresnel.a.y);
+            put_f(10u, k.fresnel.a.z);
+            put_f(11u, k.fresnel.a.w);
+            put_f(12u, k.fresnel.b.x);
+            put_f(13u, k.fresnel.b.y);
+            put_f(14u, k.fresnel.b.z);
+            put_f(15u, k.fresnel.b.w);
+        }
+        case F_GLTF_CLEARCOAT_COAT_MIX: {
+            put_f(0u, gltf_clearcoat_coat_mix(clearcoat(bsdf), p.c.x));
+        }
+        case F_GLTF_CLEARCOAT_BASE_MIX: {
+            put_f(0u, gltf_clearcoat_base_mix(clearcoat(bsdf), p.c.x));
+        }
+        case F_GLTF_CLEARCOAT_COAT_PROBABILITY: {
+            put_f(0u, gltf_clearcoat_coat_probability(clearcoat(bsdf), p.c.x));
+        }
+        case F_GLTF_CLEARCOAT_EVAL: {
+            put_v3(0u, gltf_clearcoat_eval(clearcoat(bsdf), p.a.xyz, p.b.xyz));
+        }
+        case F_GLTF_CLEARCOAT_PDF: {
+            put_f(0u, gltf_clearcoat_pdf(clearcoat(bsdf), p.a.xyz, p.b.xyz, p.n.x));
+        }
+        case F_GLTF_CLEARCOAT_SAMPLE: {
+            put_sample(gltf_clearcoat_sample(clearcoat(bsdf), p.a.xyz, p.c.xy, p.c.z, p.n.x));
         }
         case F_PROBE: {
             probe(p);
