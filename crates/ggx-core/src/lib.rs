@@ -27,6 +27,8 @@
 //! * [`GltfMetalRough`]: the glTF 2.0 metallic-roughness BRDF (spec Appendix B, with
 //!   `KHR_materials_specular` and `KHR_materials_ior`) composed from the conductor's specular
 //!   lobe, Schlick's Fresnel term and a Lambertian base, sampled as a one-sample MIS mixture.
+//! * [`GltfClearcoat`]: `KHR_materials_clearcoat`'s GGX coat over a [`GltfMetalRough`] base,
+//!   weighted by Schlick's Fresnel term of the view.
 //! * [`Bxdf`]: the one BSDF interface both implement (static dispatch), with [`BxdfFlags`].
 //! * [`mis`]: balance and power heuristics that survive infinite and zero densities.
 //! * [`Frame`]: the branchless orthonormal basis of Duff et al. 2017.
