@@ -179,8 +179,8 @@ impl GltfMetalRough {
         }
     }
 
-    /// `a_s + a_d` of [`lobe_albedos`] from the stored fields (each read clamped to `[0, 1]`):
-    /// the BRDF's view-independent albedo estimate, in `[0, 1]`.
+    /// `a_s + a_d` of the lobes' albedo estimates (see [`Self::new`]) from the stored fields
+    /// (each read clamped to `[0, 1]`): the BRDF's view-independent albedo estimate, in `[0, 1]`.
     #[inline]
     pub fn albedo_estimate(&self) -> f32 {
         let [r, g, b] = self.base_color.map(unit);
