@@ -68,7 +68,7 @@ impl GpuScene {
             ("materials", size_of_val(materials.as_slice()) as u64),
             ("emitters", size_of_val(emitters.as_slice()) as u64),
             ("light and environment tables", size_of_val(table.as_slice()) as u64),
-            ("textures and texture coordinates", size_of_val(surface.as_slice()) as u64),
+            ("textures, texture coordinates and punctual lights", size_of_val(surface.as_slice()) as u64),
             ("image", output_size),
         ];
         check_buffer_sizes(ctx, &sizes)?;
@@ -76,7 +76,7 @@ impl GpuScene {
         if surface.len() as u64 > u64::from(u32::MAX) {
             let bytes = size_of_val(surface.as_slice()) as u64;
             return Err(GpuError::TooLarge {
-                what: "textures and texture coordinates",
+                what: "textures, texture coordinates and punctual lights",
                 bytes,
                 limit: 4 * u64::from(u32::MAX),
             });

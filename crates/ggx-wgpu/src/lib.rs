@@ -135,7 +135,7 @@ mod tests {
         use crate::bvh_flat::BvhNode;
         use crate::scene_upload::{MaterialRecord, Params};
         use ggx_core::{GgxConductorMs, GgxDielectricMs, GltfMetalRough};
-        use ggx_scene::{Emitter, ShadingNormals, TextureInfo, Triangle};
+        use ggx_scene::{Emitter, PunctualLight, ShadingNormals, TextureInfo, Triangle};
         let module = parse(&path_tracer_wgsl());
         assert_layout!(&module, BvhNode, min, prim_count, max, first_index);
         assert_layout!(&module, Triangle, v0, material, v1, normals, v2, emitter);
@@ -204,11 +204,27 @@ mod tests {
             texture_count,
             texture_unorm,
             texture_words,
-            pad1
+            punctual_lights,
+            punctual_count,
+            pad1,
+            pad2,
+            pad3
         );
-        assert_eq!(size_of::<Params>(), 240);
+        assert_eq!(size_of::<Params>(), 256);
         assert_eq!(size_of::<MaterialRecord>(), 128);
-        assert_eq!(size_of::<crate::scene_upload::MetalRoughRecord>(), 56 * 4);
+        assert_eq!(size_of::<crate::scene_upload::MetalRoughRecord>(), 60 * 4);
+        assert_layout!(
+            &module,
+            PunctualLight,
+            position,
+            kind,
+            direction,
+            range,
+            intensity,
+            spot_scale,
+            spot_offset,
+            pad
+        );
         assert_layout!(&module, TextureInfo, offset, width, height, flags);
         assert_layout!(
             &module,
@@ -251,6 +267,8 @@ mod tests {
             "MR_SPECULAR" => specular,
             "MR_IOR" => ior,
             "MR_NORMAL_SCALE" => normal_scale,
+            "MR_ANISOTROPY" => anisotropy,
+            "MR_ANISOTROPY_COS_SIN" => anisotropy_cos_sin,
             "MR_BASE_COLOR_TEXTURE" => base_color_texture,
             "MR_METALLIC_TEXTURE" => metallic_texture,
             "MR_ROUGHNESS_TEXTURE" => roughness_texture,
@@ -258,6 +276,7 @@ mod tests {
             "MR_EMISSION_TEXTURE" => emission_texture,
         );
         assert_eq!(size_of::<ggx_scene::TextureRef>(), 32, "load_texture_ref reads 8 words");
+        assert_eq!(size_of::<ggx_scene::PunctualLight>(), 16 * 4, "load_punctual reads 16 words");
     }
 
     /// `energy.wgsl`'s table offsets and dims are those of the tables the upload appends.

@@ -3,17 +3,21 @@
 //! one `f32` table for the light and environment CDFs and texels, one `u32` table for what
 //! textured materials read at a hit ([`SceneTables::surface`]), and the [`Params`] uniform.
 //!
-//! The `surface` table (binding 8, WGSL `surface: array<u32>`, `f32` read with `bitcast`) holds,
-//! only when some material is textured (else one zero word):
+//! The `surface` table (binding 8, WGSL `surface: array<u32>`, `f32` read with `bitcast`) holds
+//! the sections below, each only when the scene has what it holds (a scene with neither textured
+//! materials nor punctual lights uploads one zero word):
 //!
 //! | section | offset | words |
 //! |---|---|---|
-//! | [`MetalRoughRecord`]s of the textured materials | [`MaterialRecord::surface`] | 56 each |
+//! | [`MetalRoughRecord`]s of the textured materials | [`MaterialRecord::surface`] | 60 each |
+//! | [`PunctualLight`]s (`KHR_lights_punctual`), in the scene's order | [`Params::punctual_lights`] | 16 x [`Params::punctual_count`] |
 //! | [`TriangleUvs`], parallel to the shading normals | [`Params::uvs`] | 8 x [`Params::uv_count`] |
 //! | [`TriangleTangents`], parallel to the shading normals | [`Params::tangents`] | 12 x [`Params::tangent_count`] |
 //! | [`TextureInfo`]s | [`Params::texture_infos`] | 4 x [`Params::texture_count`] |
 //! | `i / 255` for `i` in `0..256` (8-bit channels, the CPU's `b as f32 / 255.0`) | [`Params::texture_unorm`] | 256 |
 //! | [`TextureSet::words`] (sRGB table, then texels), last | [`Params::texture_words`] | the rest |
+//!
+//! The sections from the texture coordinates on exist only when some material is textured.
 
 use crate::bvh_flat::{BvhNode, EMPTY_TREE, FlatBvh};
 use bytemuck::{Pod, Zeroable};
@@ -24,7 +28,7 @@ use ggx_scene::{
     TextureRef, TextureSet, Triangle,
 };
 #[cfg(doc)]
-use ggx_scene::{TextureInfo, TriangleTangents, TriangleUvs};
+use ggx_scene::{PunctualLight, TextureInfo, TriangleTangents, TriangleUvs};
 use glam::{Quat, Vec3};
 
 /// A material as the shader shades it, 128 bytes (WGSL `Material`).
@@ -110,7 +114,7 @@ impl MaterialRecord {
 
 /// A textured metal-rough material as the shader reads it from [`SceneTables::surface`]
 /// (ggx-scene's [`MetalRough`]; `path_tracer.wgsl` reads each field at its `MR_*` word offset),
-/// 224 bytes = 56 words.
+/// 240 bytes = 60 words.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct MetalRoughRecord {
@@ -130,8 +134,11 @@ pub struct MetalRoughRecord {
     pub ior: f32,
     /// Scale of the normal map's X and Y.
     pub normal_scale: f32,
-    /// Padding.
-    pub pad: [u32; 2],
+    /// `KHR_materials_anisotropy`'s strength (0: isotropic).
+    pub anisotropy: f32,
+    /// The anisotropy direction's rotation from the tangent, radians (the shader reads its
+    /// cosine and sine, [`MetalRoughRecord::anisotropy_cos_sin`]).
+    pub anisotropy_rotation: f32,
     /// Base colour texture (words 16..24).
     pub base_color_texture: TextureRef,
     /// Metallic texture (words 24..32).
@@ -142,6 +149,12 @@ pub struct MetalRoughRecord {
     pub normal_texture: TextureRef,
     /// Emission texture (words 48..56).
     pub emission_texture: TextureRef,
+    /// `(cos, sin)` of [`MetalRoughRecord::anisotropy_rotation`] (words 56, 57), by the CPU's
+    /// `f32::sin_cos` as ggx-render's `anisotropy_direction` computes them: a GPU's `sin` and
+    /// `cos` need not round like the CPU's, and the values are the same at every hit.
+    pub anisotropy_cos_sin: [f32; 2],
+    /// Padding.
+    pub pad: [u32; 2],
 }
 
 impl MetalRoughRecord {
@@ -156,12 +169,18 @@ impl MetalRoughRecord {
             specular: m.specular,
             ior: m.ior,
             normal_scale: m.normal_scale,
-            pad: [0; 2],
+            anisotropy: m.anisotropy,
+            anisotropy_rotation: m.anisotropy_rotation,
             base_color_texture: m.base_color_texture,
             metallic_texture: m.metallic_texture,
             roughness_texture: m.roughness_texture,
             normal_texture: m.normal_texture,
             emission_texture: m.emission_texture,
+            anisotropy_cos_sin: {
+                let (s, c) = m.anisotropy_rotation.sin_cos();
+                [c, s]
+            },
+            pad: [0; 2],
         }
     }
 }
@@ -187,7 +206,7 @@ pub fn push_textures(surface: &mut Vec<u32>, textures: &TextureSet, params: &mut
     params.texture_words = push_words(surface, &textures.words);
 }
 
-/// Per-dispatch uniform (WGSL `Params`), 240 bytes.
+/// Per-dispatch uniform (WGSL `Params`), 256 bytes.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct Params {
@@ -278,8 +297,16 @@ pub struct Params {
     pub texture_unorm: u32,
     /// Offset (words) of the texture word table (sRGB table first) in [`SceneTables::surface`].
     pub texture_words: u32,
-    /// Padding.
+    /// Offset (words) of the punctual lights in [`SceneTables::surface`].
+    pub punctual_lights: u32,
+    /// Number of punctual lights (0: none).
+    pub punctual_count: u32,
+    /// Padding (scalars: a uniform array's stride would be 16 bytes).
     pub pad1: u32,
+    /// Padding.
+    pub pad2: u32,
+    /// Padding.
+    pub pad3: u32,
 }
 
 /// Everything the shader reads, on the CPU.
@@ -294,8 +321,8 @@ pub struct SceneTables {
     pub emitters: Vec<Emitter>,
     /// Light CDF, environment tables and texels.
     pub table: Vec<f32>,
-    /// Textured materials, texture coordinates, tangents and textures (see the module docs);
-    /// empty when no material is textured.
+    /// Textured materials, punctual lights, texture coordinates, tangents and textures (see the
+    /// module docs); empty when no material is textured and there is no punctual light.
     pub surface: Vec<u32>,
     /// The uniform, `y0`, `rows`, `s0`, `s1` left zero.
     pub params: Params,
@@ -315,6 +342,7 @@ impl SceneTables {
                 record.surface = push_words(&mut surface, bytemuck::cast_slice(&[MetalRoughRecord::new(m)]));
             }
         }
+        let any_textured = !surface.is_empty();
         let mut leaf_of = vec![u32::MAX; scene.mesh.triangles.len()];
         for (leaf, &t) in bvh.primitive_to_triangle.iter().enumerate().rev() {
             if let Some(slot) = leaf_of.get_mut(t as usize) {
@@ -383,7 +411,11 @@ impl SceneTables {
                 table.extend_from_slice(t);
             }
         }
-        if !surface.is_empty() {
+        if !scene.punctual_lights.is_empty() {
+            params.punctual_lights = push_words(&mut surface, bytemuck::cast_slice(&scene.punctual_lights));
+            params.punctual_count = count(&scene.punctual_lights);
+        }
+        if any_textured {
             let mesh = &scene.mesh;
             (params.uvs, params.uv_count) =
                 (push_words(&mut surface, bytemuck::cast_slice(&mesh.uvs)), count(&mesh.uvs));
@@ -448,4 +480,43 @@ fn count<T>(values: &[T]) -> u32 {
 /// `values`, or one zeroed record when empty (bindings cannot be empty).
 pub fn non_empty<T: Pod>(values: &[T]) -> Vec<T> {
     if values.is_empty() { vec![T::zeroed()] } else { values.to_vec() }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ggx_scene::{PUNCTUAL_POINT, PUNCTUAL_SPOT, PunctualLight};
+    use std::path::Path;
+
+    /// Punctual lights are one section of `surface`, the scene's `PunctualLight`s word for word;
+    /// a scene without any uploads what it did before they existed (nothing in `surface`).
+    #[test]
+    fn punctual_lights_are_uploaded_only_when_the_scene_has_some() {
+        let text = "[camera]\nposition = [0, 0, 3]\nlook_at = [0, 0, 0]\nresolution = [8, 8]\n\
+                    [materials.m]\ntype = \"diffuse\"\nalbedo = [0.5, 0.5, 0.5]\n\
+                    [[shapes]]\ntype = \"sphere\"\nmaterial = \"m\"\ncenter = [0, 0, 0]\nradius = 1\n\
+                    [environment]\ntype = \"constant\"\nradiance = [1, 1, 1]\n";
+        let mut scene = ggx_scene::parse_scene(text, "s.toml", Path::new(".")).expect("scene");
+        let plain = SceneTables::new(&scene);
+        assert!(plain.surface.is_empty());
+        assert_eq!((plain.params.punctual_lights, plain.params.punctual_count), (0, 0));
+        let spot = PunctualLight {
+            position: [1.0, 2.0, 3.0],
+            kind: PUNCTUAL_SPOT,
+            direction: [0.0, -1.0, 0.0],
+            range: 4.0,
+            intensity: [1.0, 2.0, 3.0],
+            spot_scale: 5.0,
+            spot_offset: -4.0,
+            pad: [0; 3],
+        };
+        scene.punctual_lights = vec![spot, PunctualLight { kind: PUNCTUAL_POINT, range: 0.0, ..spot }];
+        let lit = SceneTables::new(&scene);
+        assert_eq!(lit.params.punctual_count, 2);
+        let o = lit.params.punctual_lights as usize;
+        assert_eq!(lit.surface.get(o..o + 32), Some(bytemuck::cast_slice::<_, u32>(&scene.punctual_lights)));
+        assert_eq!(lit.surface.len(), 32, "no texture sections without a textured material");
+        assert_eq!(Params { punctual_lights: 0, punctual_count: 0, ..lit.params }, plain.params);
+        assert_eq!((&lit.materials, &lit.table, &lit.emitters), (&plain.materials, &plain.table, &plain.emitters));
+    }
 }

@@ -244,15 +244,21 @@ fn ranges_windows_and_resumes_on_the_gpu() {
 ///
 /// * floor: sRGB 8-bit base colour (repeat, bilinear, coordinates from -1 to 2), a
 ///   `metallicRoughnessTexture` (roughness G, metallic B; mirrored S, clamped T) and a normal
-///   map (scale 0.7) without mesh tangents (`dp/du` from the coordinates);
+///   map (scale 0.7) without `TANGENT` (the loader's MikkTSpace tangents);
 /// * back wall: a 16-bit base colour (float texels; nearest, mirrored repeat) under a
 ///   `KHR_texture_transform`, the normal map with mesh tangents (`TANGENT`, `w = -1`);
 /// * textured sphere: base colour (nearest, clamp to edge) and normal map on a curved mesh
 ///   whose poles have degenerate coordinates;
 /// * lamp: emission factor 6 (`KHR_materials_emissive_strength`) times an sRGB emission
 ///   texture, which both emits (hit and next-event estimation) and reflects;
-/// * untextured metal-rough spheres: a rough gold metal and a half-metallic mirror lobe
-///   (roughness 0.02: a delta specular sample over a diffuse base);
+/// * anisotropic metal-rough (`KHR_materials_anisotropy`): the gold sphere (strength 0.7, rotation
+///   0.6, MikkTSpace tangents) and the back wall (strength 0.5, rotation -1.1, its `TANGENT`s,
+///   under its normal map);
+/// * an untextured metal-rough sphere: a half-metallic mirror lobe (roughness 0.02: a delta
+///   specular sample over a diffuse base);
+/// * `KHR_lights_punctual`: a point light with a range, a spot light whose cone edge crosses
+///   the floor and a directional light from behind the back wall, all at tilted nodes, and a
+///   point light inside the textured sphere (dark unless the sphere is glass);
 /// * a constant environment.
 mod textured_scene {
     use std::path::Path;
@@ -520,12 +526,32 @@ mod textured_scene {
         }
         let Buffers { bin, views, accessors } = buffers;
         write("textured.bin", &bin);
-        let nodes: Vec<String> = (0..meshes.len()).map(|i| format!(r#"{{"mesh": {i}}}"#)).collect();
-        let node_list: Vec<String> = (0..meshes.len()).map(|i| i.to_string()).collect();
+        let mut nodes: Vec<String> = (0..meshes.len()).map(|i| format!(r#"{{"mesh": {i}}}"#)).collect();
+        // Punctual lights 0 point, 1 spot, 2 directional, 3 point inside the textured sphere: each
+        // node's -Z turned toward `toward`.
+        let lights = [
+            ([1.4f32, 1.5, 1.1], [0.2f32, -1.0, -0.5]),
+            ([0.3, 2.0, 1.3], [-0.25, -1.0, -0.6]),
+            ([0.0; 3], [-0.3, -0.8, 0.35]),
+            ([-0.7, 0.55, 0.1], [0.0, 0.0, -1.0]),
+        ];
+        for (i, (at, toward)) in lights.iter().enumerate() {
+            let q = glam::Quat::from_rotation_arc(glam::Vec3::NEG_Z, glam::Vec3::from(*toward).normalize()).to_array();
+            nodes.push(format!(
+                r#"{{"translation": {at:?}, "rotation": {q:?}, "extensions": {{"KHR_lights_punctual": {{"light": {i}}}}}}}"#
+            ));
+        }
+        let node_list: Vec<String> = (0..nodes.len()).map(|i| i.to_string()).collect();
         let gltf = format!(
             r#"{{
   "asset": {{"version": "2.0"}},
-  "extensionsUsed": ["KHR_texture_transform", "KHR_materials_emissive_strength"],
+  "extensionsUsed": ["KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_materials_anisotropy", "KHR_lights_punctual"],
+  "extensions": {{"KHR_lights_punctual": {{"lights": [
+    {{"type": "point", "color": [1.0, 0.8, 0.6], "intensity": 3.0, "range": 4.0}},
+    {{"type": "spot", "color": [0.6, 0.8, 1.0], "intensity": 6.0, "spot": {{"innerConeAngle": 0.25, "outerConeAngle": 0.5}}}},
+    {{"type": "directional", "color": [1.0, 0.95, 0.9], "intensity": 1.5}},
+    {{"type": "point", "color": [1.0, 0.6, 0.3], "intensity": 0.8}}
+  ]}}}},
   "scene": 0,
   "scenes": [{{"nodes": [{nodes_list}]}}],
   "nodes": [{nodes}],
@@ -550,8 +576,8 @@ mod textured_scene {
   ],
   "materials": [
     {{"name": "floor", "pbrMetallicRoughness": {{"baseColorTexture": {{"index": 0}}, "metallicRoughnessTexture": {{"index": 1}}}}, "normalTexture": {{"index": 2, "scale": 0.7}}}},
-    {{"name": "wall", "pbrMetallicRoughness": {{"baseColorFactor": [0.9, 0.8, 0.7, 1], "baseColorTexture": {{"index": 3, "extensions": {{"KHR_texture_transform": {{"offset": [0.1, -0.2], "rotation": 0.4, "scale": [1.7, 1.3]}}}}}}, "metallicFactor": 0.0, "roughnessFactor": 0.55}}, "normalTexture": {{"index": 2}}}},
-    {{"name": "gold", "pbrMetallicRoughness": {{"baseColorFactor": [1.0, 0.77, 0.34, 1], "metallicFactor": 1.0, "roughnessFactor": 0.35}}}},
+    {{"name": "wall", "pbrMetallicRoughness": {{"baseColorFactor": [0.9, 0.8, 0.7, 1], "baseColorTexture": {{"index": 3, "extensions": {{"KHR_texture_transform": {{"offset": [0.1, -0.2], "rotation": 0.4, "scale": [1.7, 1.3]}}}}}}, "metallicFactor": 0.0, "roughnessFactor": 0.55}}, "normalTexture": {{"index": 2}}, "extensions": {{"KHR_materials_anisotropy": {{"anisotropyStrength": 0.5, "anisotropyRotation": -1.1}}}}}},
+    {{"name": "gold", "pbrMetallicRoughness": {{"baseColorFactor": [1.0, 0.77, 0.34, 1], "metallicFactor": 1.0, "roughnessFactor": 0.35}}, "extensions": {{"KHR_materials_anisotropy": {{"anisotropyStrength": 0.7, "anisotropyRotation": 0.6}}}}}},
     {{"name": "lamp", "pbrMetallicRoughness": {{"baseColorFactor": [0.5, 0.5, 0.5, 1], "metallicFactor": 0.0, "roughnessFactor": 0.8}}, "emissiveFactor": [1, 1, 1], "emissiveTexture": {{"index": 4}}, "extensions": {{"KHR_materials_emissive_strength": {{"emissiveStrength": 6}}}}}},
     {{"name": "gloss", "pbrMetallicRoughness": {{"baseColorFactor": [0.2, 0.5, 0.8, 1], "metallicFactor": 0.5, "roughnessFactor": 0.02}}}},
     {{"name": "tiles", "pbrMetallicRoughness": {{"baseColorTexture": {{"index": 5}}, "metallicRoughnessTexture": {{"index": 1}}, "metallicFactor": 0.6, "roughnessFactor": 0.9}}, "normalTexture": {{"index": 2, "scale": 1.3}}}}
@@ -581,16 +607,22 @@ mod textured_scene {
 }
 
 /// The textured metal-rough scene of [`textured_scene`] (sRGB and 16-bit base colours, a
-/// metallic-roughness texture, normal maps with and without mesh tangents, textured emission,
-/// untextured metal-rough materials, every wrap mode, nearest and bilinear) renders on the GPU
-/// as on the CPU, under two integrator settings, within the bounds of a scene without an
-/// environment map; so does its geometry under one untextured metal-rough material, which runs
-/// a specialized kernel without `TEXTURES`.
+/// metallic-roughness texture, normal maps with the file's and with MikkTSpace tangents, textured emission,
+/// anisotropic and untextured metal-rough materials, every wrap mode, nearest and bilinear,
+/// point, spot and directional lights beside the area light and the environment) renders on
+/// the GPU as on the CPU, under two integrator settings (MIS, NEE alone), within the bounds of
+/// a scene without an environment map; so does its geometry under one untextured metal-rough
+/// material, and under one absorbing rough glass (a point light inside the closed sphere: shadow
+/// rays through the medium; the directional light behind the open wall, on its inside: reached
+/// through an infinite medium in the channel that does not absorb), each in a specialized
+/// kernel without `TEXTURES` whose only scene lights are the punctual ones (`AREA` on, no
+/// emitter), the glass within the bounds of dielectrics.
 #[test]
 fn a_textured_metal_rough_scene_matches_the_cpu_render() {
     let Some(ctx) = context_or_skip("the textured scene test") else { return };
     let dir = std::env::temp_dir().join(format!("ggx-wgpu-textured-{}", std::process::id()));
     let plain = "type = \"metal-rough\"\nbase_color = [0.8, 0.5, 0.3]\nmetallic = 0.4\nroughness = 0.3";
+    let glass = "type = \"dielectric\"\nior = 1.4\nroughness = 0.7\nabsorption = [0.8, 0.3, 0.0]";
     let settings = [
         ("spp = 8\nmax_depth = 6\nrussian_roulette = 3", None),
         (
@@ -598,6 +630,7 @@ fn a_textured_metal_rough_scene_matches_the_cpu_render() {
             None,
         ),
         ("spp = 8\nmax_depth = 6\nrussian_roulette = 3", Some(plain)),
+        ("spp = 8\nmax_depth = 6\nrussian_roulette = 3", Some(glass)),
     ];
     let mut failures = Vec::new();
     for (i, (integrator, material)) in settings.iter().enumerate() {
@@ -605,9 +638,17 @@ fn a_textured_metal_rough_scene_matches_the_cpu_render() {
         let scene = ggx_scene::load_scene(&path).unwrap_or_else(|e| panic!("textured scene: {e}"));
         let f = scene.features;
         let textured = material.is_none();
-        assert!(f.metal_rough && f.textures == textured && f.area_lights == textured, "{f:?}");
+        let dielectric = *material == Some(glass);
+        assert!(f.metal_rough != dielectric && f.dielectrics == dielectric, "{f:?}");
+        assert!(f.textures == textured && f.area_lights == textured, "{f:?}");
+        assert!(f.punctual_lights && scene.punctual_lights.len() == 4, "{f:?}");
         if textured {
             assert!(scene.textures.infos.len() >= 6 && !scene.mesh.uvs.is_empty() && !scene.mesh.tangents.is_empty());
+            let anisotropic = scene
+                .materials
+                .iter()
+                .filter(|m| matches!(m, ggx_scene::Material::MetalRough(r) if r.anisotropy > 0.0));
+            assert_eq!(anisotropic.count(), 2);
         }
         let options = RenderOptions::default();
         let cpu =
@@ -616,7 +657,11 @@ fn a_textured_metal_rough_scene_matches_the_cpu_render() {
             .and_then(|r| r.render(&options, &RenderControl::default()))
             .unwrap_or_else(|e| panic!("textured scene: {e}"));
         assert_eq!((gpu.spp, gpu.kernel), (cpu.spp, cpu.kernel));
-        let kernel = if textured { ggx_wgpu::KernelVariant::ALL.name() } else { "env" };
+        let kernel = match (textured, dielectric) {
+            (true, _) => ggx_wgpu::KernelVariant::ALL.name(),
+            (false, false) => "area+env",
+            (false, true) => "area+env+dielectric",
+        };
         assert_eq!(gpu.kernel, kernel);
         let mean = cpu.film.mean();
         assert!(mean.iter().all(|p| p.is_finite()) && mean.iter().any(|p| p.max_element() > 0.05), "a lit image");

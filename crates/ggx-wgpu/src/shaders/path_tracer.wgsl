@@ -25,11 +25,13 @@ const MR_SPECULAR_COLOR: u32 = 8u;
 const MR_SPECULAR: u32 = 11u;
 const MR_IOR: u32 = 12u;
 const MR_NORMAL_SCALE: u32 = 13u;
+const MR_ANISOTROPY: u32 = 14u;
 const MR_BASE_COLOR_TEXTURE: u32 = 16u;
 const MR_METALLIC_TEXTURE: u32 = 24u;
 const MR_ROUGHNESS_TEXTURE: u32 = 32u;
 const MR_NORMAL_TEXTURE: u32 = 40u;
 const MR_EMISSION_TEXTURE: u32 = 48u;
+const MR_ANISOTROPY_COS_SIN: u32 = 56u;
 const LIGHT_BSDF: u32 = 0u;
 const LIGHT_MIS: u32 = 2u;
 const SHADOW_SCALE: f32 = 1.0f - 1e-3f;
@@ -198,7 +200,8 @@ fn bsdf_transmits(m: Material) -> bool {
 }
 
 // textured.rs `metal_rough_at`: the BRDF of the MetalRoughRecord at word o at uv: each factor times its texture (base
-// colour RGB, metallic and roughness their slot's channel), alpha = roughness^2.
+// colour RGB, metallic and roughness their slot's channel), alpha = roughness^2; KHR_materials_anisotropy's
+// alpha_x = mix(alpha, 1, strength^2) along the frame's tangent (the caller turns the frame).
 fn metal_rough_at(o: u32, uv: vec2<f32>) -> GltfMetalRough {
     var base = surface_vec3(o + MR_BASE_COLOR);
     let base_tex = load_texture_ref(o + MR_BASE_COLOR_TEXTURE);
@@ -216,9 +219,12 @@ fn metal_rough_at(o: u32, uv: vec2<f32>) -> GltfMetalRough {
         roughness *= texture_sample_channel(roughness_tex, uv);
     }
     let alpha = roughness * roughness;
+    let strength = surface_f32(o + MR_ANISOTROPY);
+    let s2 = strength * strength;
+    let alpha_t = alpha + (1.0 - alpha) * s2;
     let ior = surface_f32(o + MR_IOR);
     let specular_color = surface_vec3(o + MR_SPECULAR_COLOR);
-    return gltf_metal_rough_new(base, metallic, alpha, alpha, ior, specular_color, surface_f32(o + MR_SPECULAR));
+    return gltf_metal_rough_new(base, metallic, alpha_t, alpha, ior, specular_color, surface_f32(o + MR_SPECULAR));
 }
 
 // textured.rs `normal_map_at`: normalize((2 rgb - 1) (scale, scale, 1)) of the record's normal map at uv; 0 (the
@@ -246,47 +252,78 @@ fn emission_at(mi: u32, tri: Triangle, b1: f32, b2: f32) -> vec3<f32> {
     return m.emission;
 }
 
-// textured.rs `perturb_normal`: n bent by the tangent-space normal nt, normalize(nt.x T + nt.y B + nt.z n), T the mesh's
-// tangent (record k, interpolated) or dp/du, made orthogonal to n, B = w (n x T); n unchanged without a tangent.
-fn perturb_normal(n: vec3<f32>, nt: vec3<f32>, tri: Triangle, k: u32, b1: f32, b2: f32) -> vec3<f32> {
-    var t = vec3(0.0);
-    var w = 1.0f;
-    var from_mesh = false;
+// textured.rs `tangent_at`'s Option<(Vec3, f32)>: the tangent t, the bitangent's sign w, valid.
+struct TangentAt {
+    t: vec3<f32>,
+    w: f32,
+    valid: bool,
+}
+
+// textured.rs `tangent_frame`'s Option<(Vec3, Vec3)>: T, B, valid.
+struct TangentFrame {
+    t: vec3<f32>,
+    b: vec3<f32>,
+    valid: bool,
+}
+
+// textured.rs `tangent_at`: the tangent at (b1, b2) and the sign w (B = w (n x T)): the mesh's tangent (record k,
+// interpolated) or dp/du with the sign that makes B follow -dp/dv; invalid when the coordinates are degenerate.
+fn tangent_at(n: vec3<f32>, tri: Triangle, k: u32, b1: f32, b2: f32) -> TangentAt {
     if k < params.tangent_count {
         let o = params.tangents + 12u * k;
         let w0 = surface_f32(o + 3u);
         if w0 != 0.0 {
-            t = (1.0 - b1 - b2) * surface_vec3(o) + b1 * surface_vec3(o + 4u) + b2 * surface_vec3(o + 8u);
-            w = select(1.0, -1.0, w0 < 0.0);
-            from_mesh = true;
+            let t = (1.0 - b1 - b2) * surface_vec3(o) + b1 * surface_vec3(o + 4u) + b2 * surface_vec3(o + 8u);
+            return TangentAt(t, select(1.0, -1.0, w0 < 0.0), true);
         }
     }
-    if !from_mesh {
-        let dp1 = tri.v1 - tri.v0;
-        let dp2 = tri.v2 - tri.v0;
-        let o = params.uvs + 8u * k;
-        let uv0 = vec2(surface_f32(o), surface_f32(o + 1u));
-        let d1 = vec2(surface_f32(o + 2u), surface_f32(o + 3u)) - uv0;
-        let d2 = vec2(surface_f32(o + 4u), surface_f32(o + 5u)) - uv0;
-        let det = d1.x * d2.y - d2.x * d1.y;
-        if !(abs(det) > 1e-20f) {
-            return n;
-        }
-        let dpdu = (dp1 * d2.y - dp2 * d1.y) / det;
-        let dpdv = (dp2 * d1.x - dp1 * d2.x) / det;
-        w = select(1.0, -1.0, dot3(cross3(n, dpdu), -dpdv) < 0.0);
-        t = dpdu;
+    let dp1 = tri.v1 - tri.v0;
+    let dp2 = tri.v2 - tri.v0;
+    let o = params.uvs + 8u * k;
+    let uv0 = vec2(surface_f32(o), surface_f32(o + 1u));
+    let d1 = vec2(surface_f32(o + 2u), surface_f32(o + 3u)) - uv0;
+    let d2 = vec2(surface_f32(o + 4u), surface_f32(o + 5u)) - uv0;
+    let det = d1.x * d2.y - d2.x * d1.y;
+    if !(abs(det) > 1e-20f) {
+        return TangentAt(vec3(0.0), 1.0, false);
     }
+    let dpdu = (dp1 * d2.y - dp2 * d1.y) / det;
+    let dpdv = (dp2 * d1.x - dp1 * d2.x) / det;
+    let w = select(1.0, -1.0, dot3(cross3(n, dpdu), -dpdv) < 0.0);
+    return TangentAt(dpdu, w, true);
+}
+
+// textured.rs `tangent_frame`: T = t made orthogonal to the unit normal n, B = w (n x T); invalid when T vanishes.
+fn tangent_frame(n: vec3<f32>, t: vec3<f32>, w: f32) -> TangentFrame {
     let tn = glam_normalize_or_zero(t - n * dot3(n, t));
     if all(tn == vec3(0.0)) || !is_finite3(tn) {
+        return TangentFrame(vec3(0.0), vec3(0.0), false);
+    }
+    return TangentFrame(tn, cross3(n, tn) * w, true);
+}
+
+// textured.rs `perturb_normal`: n bent by the tangent-space normal nt, normalize(nt.x T + nt.y B + nt.z n) in the
+// tangent_frame of tangent_at (record k); n unchanged without a tangent.
+fn perturb_normal(n: vec3<f32>, nt: vec3<f32>, tri: Triangle, k: u32, b1: f32, b2: f32) -> vec3<f32> {
+    let ta = tangent_at(n, tri, k, b1, b2);
+    if !ta.valid {
         return n;
     }
-    let b = cross3(n, tn) * w;
-    let bent = glam_normalize_or_zero(tn * nt.x + b * nt.y + n * nt.z);
+    let tf = tangent_frame(n, ta.t, ta.w);
+    if !tf.valid {
+        return n;
+    }
+    let bent = glam_normalize_or_zero(tf.t * nt.x + tf.b * nt.y + n * nt.z);
     if all(bent == vec3(0.0)) || !is_finite3(bent) {
         return n;
     }
     return bent;
+}
+
+// textured.rs `anisotropy_direction`: T turned by the rotation toward B, normalize(cos r T + sin r B), with (cos r,
+// sin r) the record's, from the CPU's sin_cos.
+fn anisotropy_direction(t: vec3<f32>, b: vec3<f32>, cos_sin: vec2<f32>) -> vec3<f32> {
+    return glam_normalize_or_zero(t * cos_sin.x + b * cos_sin.y);
 }
 
 // f32::signum: 1 for +0 and positives, -1 for -0 and negatives.
@@ -383,21 +420,22 @@ fn draw_bounce(stream: ptr<function, SampleStream>, lobe: bool, light: bool, pic
     return s;
 }
 
-// integrator.rs `trace`: radiance along a camera ray (NEE + power-heuristic MIS, Russian roulette); rays counts traced rays.
+// integrator.rs `trace`: radiance along a camera ray (NEE toward area, punctual and environment lights + power-heuristic
+// MIS, Russian roulette); rays counts traced rays.
 fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleStream>, rays: ptr<function, u32>) -> vec3<f32> {
     let use_nee = params.light_strategy != LIGHT_BSDF;
     let use_mis = params.light_strategy == LIGHT_MIS;
     let has_area = AREA && params.emitter_count > 0u;
     let has_env = ENV && params.env_kind != ENV_NONE;
-    var p_area = 0.0f;
-    if has_area && has_env {
-        p_area = 0.5;
-    } else if has_area {
-        p_area = 1.0;
-    }
-    let p_env = select(0.0, 1.0 - p_area, has_env);
-    let draw_light = use_nee && (has_area || has_env);
-    let draw_pick = use_nee && has_area && has_env;
+    let has_punctual = AREA && params.punctual_count > 0u;
+    // Area lights, punctual lights and the environment share the light selection equally.
+    let classes = select(0u, 1u, has_area) + select(0u, 1u, has_env) + select(0u, 1u, has_punctual);
+    let p_class = select(0.0, 1.0 / f32(classes), classes > 0u);
+    let p_area = select(0.0, p_class, has_area);
+    let p_punctual = select(0.0, p_class, has_punctual);
+    let p_env = select(0.0, 1.0 - p_area - p_punctual, has_env);
+    let draw_light = use_nee && (has_area || has_env || has_punctual);
+    let draw_pick = use_nee && ((has_area && has_env) || has_punctual);
 
     var origin = origin_in;
     var dir = dir_in;
@@ -495,7 +533,21 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
             }
             ns = select(n, -n, dot3(n, ng) < 0.0);
         }
-        let frame = shading_frame(ns);
+        var frame = shading_frame(ns);
+        if TEXTURES && m.kind == MAT_METAL_ROUGH && m.surface != NO_INDEX && tri.normals < params.uv_count
+            && surface_f32(m.surface + MR_ANISOTROPY) != 0.0 {
+            // KHR_materials_anisotropy: alpha_x along the mesh's tangent turned by the rotation.
+            let ta = tangent_at(ns, tri, tri.normals, b.x, b.y);
+            if ta.valid {
+                let tf = tangent_frame(ns, ta.t, ta.w);
+                if tf.valid {
+                    let x = anisotropy_direction(tf.t, tf.b, surface_vec2(m.surface + MR_ANISOTROPY_COS_SIN));
+                    if any(x != vec3(0.0)) {
+                        frame = Frame(x, cross3(ns, x), ns);
+                    }
+                }
+            }
+        }
         let wo = frame_to_local(frame, -dir);
         if !(wo.z * -dot3(ng, dir) > 0.0) {
             break;
@@ -505,7 +557,51 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
 
         if use_nee && !bsdf_is_delta(m) {
             let pick_area = has_area && s.pick < p_area;
-            if AREA && pick_area {
+            let pick_punctual = !pick_area && has_punctual && s.pick < p_area + p_punctual;
+            if AREA && pick_punctual {
+                // One punctual light, uniformly: a delta light, no MIS.
+                let n = params.punctual_count;
+                let u = max_num((s.pick - p_area) / p_punctual, 0.0);
+                let light = load_punctual(min(u32(u * f32(n)), n - 1u));
+                let pmf = p_punctual / f32(n);
+                var wi_world = -light.direction;
+                var dist = inf_f32();
+                if light.kind != PUNCTUAL_DIRECTIONAL {
+                    let to = light.position - p;
+                    dist = sqrt(dot3(to, to));
+                    wi_world = to / dist;
+                }
+                let wi = frame_to_local(frame, wi_world);
+                let li = punctual_incident(light, wi_world, dist);
+                let lit = any(li != vec3(0.0));
+                if dist > 0.0 && is_finite3(wi_world) && lit && sides_agree(wi, wi_world, ng, transmits) {
+                    let f = bsdf_eval(m, wo, wi);
+                    if any(f != vec3(0.0)) {
+                        *rays += 1u;
+                        var shadow_origin = p_out;
+                        if transmits {
+                            shadow_origin = offset_ray_origin(p, ng * signum(wi.z));
+                        }
+                        var tmax = inf_f32();
+                        if is_finite(dist) {
+                            let to = light.position - shadow_origin;
+                            tmax = sqrt(dot3(to, to)) * SHADOW_SCALE;
+                        }
+                        var tr = vec3(1.0);
+                        if DIELECTRIC {
+                            let medium = segment_medium(m, sigma, wi.z);
+                            if is_finite(dist) {
+                                tr = medium_transmittance(medium, dist);
+                            } else {
+                                tr = escape_transmittance(medium);
+                            }
+                        }
+                        if any(tr != vec3(0.0)) && unoccluded(shadow_origin, wi_world, tmax) {
+                            radiance += beta * f * tr * li / pmf;
+                        }
+                    }
+                }
+            } else if AREA && pick_area {
                 let u_emitter = select(s.pick, s.pick / p_area, p_area < 1.0);
                 let e = sample_emitter(u_emitter);
                 let light_tri = triangles[emitters[e].triangle];

@@ -1,6 +1,6 @@
 // ggx path tracer, part 1: scene bindings, BVH2 traversal (obvhs's ray_traverse_dynamic),
-// area lights, the environment, texture coordinates and textures (ggx-scene). Expects
-// ggx_core.wgsl in front of it.
+// area lights, the environment, punctual lights, texture coordinates and textures (ggx-scene).
+// Expects ggx_core.wgsl in front of it.
 
 const STACK_SIZE: u32 = 64u;
 const NO_INDEX: u32 = 0xffffffffu;
@@ -17,6 +17,9 @@ const REF_SRGB: u32 = 1u;
 const REF_CHANNEL_SHIFT: u32 = 1u;
 const WRAP_CLAMP_TO_EDGE: u32 = 1u;
 const WRAP_MIRRORED_REPEAT: u32 = 2u;
+// ggx-scene punctual.rs kinds.
+const PUNCTUAL_SPOT: u32 = 1u;
+const PUNCTUAL_DIRECTIONAL: u32 = 2u;
 
 struct Params {
     cam_position: vec3<f32>,
@@ -62,7 +65,11 @@ struct Params {
     texture_count: u32,
     texture_unorm: u32,
     texture_words: u32,
+    punctual_lights: u32,
+    punctual_count: u32,
     pad1: u32,
+    pad2: u32,
+    pad3: u32,
 }
 
 struct BvhNode {
@@ -122,6 +129,18 @@ struct TextureRef {
     t: vec3<f32>,
 }
 
+// ggx-scene PunctualLight (64 bytes): a point, spot or directional light in world space.
+struct PunctualLight {
+    position: vec3<f32>,
+    kind: u32,
+    direction: vec3<f32>,
+    range: f32,
+    intensity: vec3<f32>,
+    spot_scale: f32,
+    spot_offset: f32,
+    pad: array<u32, 3>,
+}
+
 struct CdfPick {
     index: u32,
     du: f32,
@@ -142,7 +161,7 @@ struct Ray {
 @group(0) @binding(5) var<storage, read> emitters: array<Emitter>;
 @group(0) @binding(6) var<storage, read> table: array<f32>;
 @group(0) @binding(7) var<storage, read_write> output: array<vec4<f32>>;
-// Textured materials, texture coordinates, tangents, textures (scene_upload.rs `SceneTables::surface`).
+// Textured materials, punctual lights, texture coordinates, tangents, textures (scene_upload.rs `SceneTables::surface`).
 @group(0) @binding(8) var<storage, read> surface: array<u32>;
 
 // energy.wgsl's table accessor: ggx-core's energy tables, appended to `table` at params.energy_tables.
@@ -449,12 +468,57 @@ fn env_sample(u: vec2<f32>) -> vec4<f32> {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Punctual lights (ggx-scene punctual.rs), read from `surface`
+// ---------------------------------------------------------------------------------------------
+
+// Punctual light i (16 words at params.punctual_lights + 16 i).
+fn load_punctual(i: u32) -> PunctualLight {
+    let o = params.punctual_lights + 16u * i;
+    return PunctualLight(
+        surface_vec3(o),
+        surface[o + 3u],
+        surface_vec3(o + 4u),
+        surface_f32(o + 7u),
+        surface_vec3(o + 8u),
+        surface_f32(o + 11u),
+        surface_f32(o + 12u),
+        array<u32, 3>(0u, 0u, 0u),
+    );
+}
+
+// PunctualLight::incident: I window(d) spot(w) / d^2 toward -w at distance d (window clamp(1 - (d / range)^4, 0, 1),
+// spot clamp(cos scale + offset, 0, 1)^2), 0 unless finite; a directional light's irradiance as is.
+fn punctual_incident(l: PunctualLight, w: vec3<f32>, d: f32) -> vec3<f32> {
+    if l.kind == PUNCTUAL_DIRECTIONAL {
+        return l.intensity;
+    }
+    var atten = 1.0 / (d * d);
+    if l.range > 0.0 {
+        let r = d / l.range;
+        let r2 = r * r;
+        atten *= min_num(max_num(1.0 - r2 * r2, 0.0), 1.0);
+    }
+    if l.kind == PUNCTUAL_SPOT {
+        let cd = dot3(l.direction, -w);
+        let a = min_num(max_num(cd * l.spot_scale + l.spot_offset, 0.0), 1.0);
+        atten *= a * a;
+    }
+    let out = l.intensity * atten;
+    return select(vec3(0.0), out, is_finite3(out));
+}
+
+// ---------------------------------------------------------------------------------------------
 // Texture coordinates and textures (ggx-scene mesh.rs, texture.rs), read from `surface`
 // ---------------------------------------------------------------------------------------------
 
 // Word i of `surface` as f32.
 fn surface_f32(i: u32) -> f32 {
     return bitcast<f32>(surface[i]);
+}
+
+// Words i, i + 1 of `surface` as a vec2<f32>.
+fn surface_vec2(i: u32) -> vec2<f32> {
+    return vec2(surface_f32(i), surface_f32(i + 1u));
 }
 
 // Words i..i + 3 of `surface` as a vec3<f32>.
