@@ -22,13 +22,13 @@ mod util;
 use ggx_core::math::ONE_MINUS_EPSILON;
 use ggx_core::metal_rough::{DEFAULT_IOR, clamp_ior, dielectric_f0};
 use ggx_core::{
-    Bxdf, BxdfFlags, DELTA_ALPHA, Fresnel, GgxConductor, GltfMetalRough, Sampling, TransportMode, Vec2, Vec3, reflect,
-    warp,
+    Bxdf, BxdfFlags, DELTA_ALPHA, Fresnel, GgxConductor, GltfMetalRough, Sampling, TransportMode, Vec2, Vec3, warp,
 };
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
+use support::albedo::{dir64, dot, normalize};
 use support::chi2::{Chi2Config, chi2_survival, chi2_test, integrate_cells, sidak_significance};
-use util::{Uniforms, dir, wo_at};
+use util::{Uniforms, wo_at};
 
 // ---------------------------------------------------------------------------------------------
 // The specification in f64
@@ -133,23 +133,6 @@ impl Params {
     }
 }
 
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn normalize(v: [f64; 3]) -> [f64; 3] {
-    let l = dot(v, v).sqrt();
-    v.map(|x| x / l)
-}
-
-fn dir64(theta: f64, phi: f64) -> [f64; 3] {
-    [theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos()]
-}
-
-/// Nodes of the half-vector quadrature.
-const N_THETA: usize = 1500;
-const N_PHI: usize = 512;
-
 /// Largest `|(a) - (b)|` (absolute, per channel; albedos are at most about 1): what the f32
 /// evaluation at f32-rounded nodes may add to the f64 reference on the same nodes.
 const QUADRATURE_F32_TOL: f64 = 2e-5;
@@ -167,35 +150,7 @@ fn albedo_quadrature(p: &Params, inc_deg: f64) -> ([f64; 3], [f64; 3]) {
     let brdf = p.brdf();
     let wo = wo_at(inc_deg as f32);
     let wo64 = dir64(inc_deg.to_radians(), 0.7);
-    let (pi, tau) = (std::f64::consts::PI, std::f64::consts::TAU);
-    let (mut a, mut b) = ([0.0f64; 3], [0.0f64; 3]);
-    for i in 0..N_THETA {
-        let x = (i as f64 + 0.5) / N_THETA as f64;
-        let theta = 0.5 * pi * x * x;
-        let weight = pi * x / N_THETA as f64 * theta.sin() * tau / N_PHI as f64;
-        for j in 0..N_PHI {
-            let phi = (j as f64 + 0.5) / N_PHI as f64 * tau;
-            let wm64 = dir64(theta, phi);
-            let c = dot(wo64, wm64);
-            if c > 0.0 {
-                let wi64 = std::array::from_fn(|k| 2.0 * c * wm64[k] - wo64[k]);
-                if wi64[2] > 0.0 {
-                    let f = p.f(wo64, wi64);
-                    for k in 0..3 {
-                        a[k] += f[k] * wi64[2] * 4.0 * c * weight;
-                    }
-                }
-            }
-            let wm = dir(theta, phi);
-            let c = wo.dot(wm);
-            if c > 0.0 {
-                let e = brdf.eval(wo, reflect(wo, wm));
-                for k in 0..3 {
-                    b[k] += e[k] as f64 * 4.0 * c as f64 * weight;
-                }
-            }
-        }
-    }
+    let (mut a, mut b) = support::albedo::albedo_quadrature(wo64, wo, |wo, wi| p.f(wo, wi), |wo, wi| brdf.eval(wo, wi));
     if p.is_delta() {
         let (spec, _) = p.weights(wo64[2]);
         let s = brdf.specular_fresnel(wo.z);

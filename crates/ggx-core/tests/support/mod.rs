@@ -5,6 +5,7 @@
 //! Use it from a test file with `mod support;` and `use support::chi2::*;`.
 #![allow(dead_code)]
 
+pub mod albedo;
 pub mod chi2;
 pub mod dielectric_ref;
 pub mod quadrature;
