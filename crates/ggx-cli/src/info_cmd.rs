@@ -159,8 +159,12 @@ fn material_kind(m: &Material) -> &'static str {
         Material::Dielectric { .. } if m.is_anisotropic() => "anisotropic dielectric",
         Material::Dielectric { .. } => "dielectric",
         Material::Emissive { .. } => "emissive",
-        Material::MetalRough(r) if r.is_textured() || r.has_emission_texture() => "glTF metal-rough, textured",
-        Material::MetalRough(_) => "glTF metal-rough",
+        Material::MetalRough(r) => match (r.is_textured() || r.has_emission_texture(), r.clearcoat > 0.0) {
+            (true, true) => "glTF metal-rough, textured, clear-coated",
+            (true, false) => "glTF metal-rough, textured",
+            (false, true) => "glTF metal-rough, clear-coated",
+            (false, false) => "glTF metal-rough",
+        },
     }
 }
 

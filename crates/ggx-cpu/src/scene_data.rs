@@ -2,7 +2,7 @@
 
 use crate::accel::{Accel, AccelKind};
 use ggx_core::Sampling;
-use ggx_render::Bsdf;
+use ggx_render::{Bsdf, sampling_for};
 use ggx_scene::{
     AreaLights, Camera, Environment, LightStrategy, Material, MetalRough, PunctualLight, RayGenerator, Scene,
     SceneFeatures, ShadingNormals, TextureSet, Triangle, TriangleTangents, TriangleUvs,
@@ -105,10 +105,7 @@ impl SceneData {
                 .collect(),
             uvs: scene.mesh.uvs.clone(),
             tangents: scene.mesh.tangents.clone(),
-            sampling: match Bsdf::new(&Material::MetalRough(MetalRough::default()), strategy) {
-                Bsdf::MetalRough { sampling, .. } => sampling,
-                _ => Sampling::Vndf,
-            },
+            sampling: Bsdf::metal_rough_sampling(sampling_for(strategy)),
         }
     }
 }

@@ -11,8 +11,8 @@ use ggx_core::energy_dielectric::plastic_base_weight;
 use ggx_core::fresnel::fresnel_dielectric;
 use ggx_core::warp::{pdf_cosine_hemisphere, sample_cosine_hemisphere};
 use ggx_core::{
-    BsdfSample, Fresnel, GgxConductor, GgxConductorMs, GgxDielectric, GgxDielectricMs, GltfMetalRough, Sampling,
-    ThinDielectric, TransportMode,
+    BsdfSample, Fresnel, GgxConductor, GgxConductorMs, GgxDielectric, GgxDielectricMs, GltfClearcoat, GltfMetalRough,
+    Sampling, ThinDielectric, TransportMode,
 };
 use ggx_scene::{BsdfStrategy, ConductorFresnel, Material, luminance};
 use glam::{Vec2, Vec3};
@@ -69,6 +69,13 @@ pub enum Bsdf {
         /// The BRDF.
         brdf: GltfMetalRough,
         /// The technique its specular lobe uses.
+        sampling: Sampling,
+    },
+    /// The glTF metallic-roughness BRDF under `KHR_materials_clearcoat`'s GGX coat.
+    Clearcoat {
+        /// The coated BRDF.
+        brdf: GltfClearcoat,
+        /// The technique its specular and coat lobes use.
         sampling: Sampling,
     },
     /// Emitters and anything else that reflects nothing.
@@ -133,14 +140,30 @@ impl Bsdf {
                 let a = m.roughness * m.roughness;
                 let a_t = a + (1.0 - a) * m.anisotropy * m.anisotropy;
                 let brdf = GltfMetalRough::new(m.base_color, m.metallic, a_t, a, m.ior, m.specular_color, m.specular);
-                // The specular lobe's technique; the hemisphere-only ones would sample the
-                // diffuse shape twice: VNDF instead.
-                let sampling = match sampling {
-                    Sampling::Cosine | Sampling::Uniform => Sampling::Vndf,
-                    s => s,
-                };
-                Bsdf::MetalRough { brdf, sampling }
+                Bsdf::metal_rough(brdf, m.clearcoat, m.clearcoat_roughness, Self::metal_rough_sampling(sampling))
             }
+        }
+    }
+
+    /// The technique of a metal-rough material's specular (and coat) lobe for the scene's
+    /// `sampling`: the hemisphere-only ones would sample the diffuse shape twice, VNDF instead.
+    pub fn metal_rough_sampling(sampling: Sampling) -> Sampling {
+        match sampling {
+            Sampling::Cosine | Sampling::Uniform => Sampling::Vndf,
+            s => s,
+        }
+    }
+
+    /// `brdf` as a [`Bsdf`]: [`Bsdf::MetalRough`], or [`Bsdf::Clearcoat`] under a coat of weight
+    /// `clearcoat > 0` and perceptual roughness `clearcoat_roughness` (coat alpha =
+    /// roughness^2, `KHR_materials_clearcoat`).
+    #[inline]
+    pub fn metal_rough(brdf: GltfMetalRough, clearcoat: f32, clearcoat_roughness: f32, sampling: Sampling) -> Bsdf {
+        if clearcoat > 0.0 {
+            let coat = GltfClearcoat::new(brdf, clearcoat, clearcoat_roughness * clearcoat_roughness);
+            Bsdf::Clearcoat { brdf: coat, sampling }
+        } else {
+            Bsdf::MetalRough { brdf, sampling }
         }
     }
 
@@ -183,6 +206,7 @@ impl Bsdf {
                 coat.eval(wo, wi) + albedo * (t * wi.z * FRAC_1_PI)
             }
             Bsdf::MetalRough { brdf, .. } => brdf.eval(wo, wi),
+            Bsdf::Clearcoat { brdf, .. } => brdf.eval(wo, wi),
             Bsdf::Dielectric { .. } | Bsdf::Thin { .. } | Bsdf::Black => Vec3::ZERO,
         }
     }
@@ -204,6 +228,7 @@ impl Bsdf {
                 p * coat.pdf(wo, wi, sampling) + (1.0 - p) * pdf_cosine_hemisphere(wi)
             }
             Bsdf::MetalRough { brdf, sampling } => brdf.pdf(wo, wi, sampling),
+            Bsdf::Clearcoat { brdf, sampling } => brdf.pdf(wo, wi, sampling),
             Bsdf::Dielectric { .. } | Bsdf::Thin { .. } | Bsdf::Black => 0.0,
         }
     }
@@ -254,6 +279,7 @@ impl Bsdf {
                 Some(BsdfSample { wi, weight: self.eval(wo, wi) / pdf, pdf, is_delta: false })
             }
             Bsdf::MetalRough { brdf, sampling } => brdf.sample(wo, u, u_lobe, sampling),
+            Bsdf::Clearcoat { brdf, sampling } => brdf.sample(wo, u, u_lobe, sampling),
             Bsdf::Dielectric { .. } | Bsdf::Thin { .. } | Bsdf::Black => None,
         }
     }
@@ -318,11 +344,16 @@ impl Bsdf {
         }
     }
 
-    /// True when `sample` reads `u_lobe`: plastics, compensated rough conductors, dielectrics.
+    /// True when `sample` reads `u_lobe`: plastics, compensated rough conductors, dielectrics,
+    /// metal-rough materials (coated or not).
     pub fn uses_lobe_sample(&self) -> bool {
         match self {
             Bsdf::Conductor { brdf, .. } => brdf.is_compensated(),
-            Bsdf::Plastic { .. } | Bsdf::Dielectric { .. } | Bsdf::Thin { .. } | Bsdf::MetalRough { .. } => true,
+            Bsdf::Plastic { .. }
+            | Bsdf::Dielectric { .. }
+            | Bsdf::Thin { .. }
+            | Bsdf::MetalRough { .. }
+            | Bsdf::Clearcoat { .. } => true,
             Bsdf::Diffuse { .. } | Bsdf::Black => false,
         }
     }

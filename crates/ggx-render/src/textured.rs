@@ -33,10 +33,11 @@ pub fn metal_rough_at(m: &MetalRough, textures: &TextureSet, uv: Vec2) -> GltfMe
     GltfMetalRough::new(base, metallic, alpha_t, alpha, m.ior, m.specular_color, m.specular)
 }
 
-/// [`metal_rough_at`] as a ggx-render [`Bsdf`].
+/// [`metal_rough_at`] as a ggx-render [`Bsdf`], under `m`'s clear coat when it has one
+/// ([`Bsdf::metal_rough`]).
 #[inline]
 pub fn metal_rough_bsdf(m: &MetalRough, textures: &TextureSet, uv: Vec2, sampling: Sampling) -> Bsdf {
-    Bsdf::MetalRough { brdf: metal_rough_at(m, textures, uv), sampling }
+    Bsdf::metal_rough(metal_rough_at(m, textures, uv), m.clearcoat, m.clearcoat_roughness, sampling)
 }
 
 /// The normal map's tangent-space normal at `uv`: `normalize((2 rgb - 1) (scale, scale, 1))`
@@ -206,5 +207,34 @@ mod tests {
         assert_eq!(b, expected);
         assert_eq!(normal_map_at(&m, &set, Vec2::ZERO), None);
         assert_eq!(emission_at(&MetalRough { emission: Vec3::ONE, ..m }, &set, Vec2::ZERO), Vec3::ONE);
+    }
+
+    #[test]
+    fn a_clear_coat_goes_over_the_textured_base_with_alpha_roughness_squared() {
+        let mut set = TextureSet::default();
+        let t = set.push(1, 1, &Texels::Rgba8(vec![0xff40_80ff]), 0).unwrap();
+        let m = MetalRough {
+            base_color_texture: TextureRef::new(t, 0, true),
+            clearcoat: 0.75,
+            clearcoat_roughness: 0.5,
+            ..MetalRough::default()
+        };
+        let base = metal_rough_at(&m, &set, Vec2::ZERO);
+        let Bsdf::Clearcoat { brdf, sampling } = metal_rough_bsdf(&m, &set, Vec2::ZERO, Sampling::Bounded) else {
+            panic!("a coated material is a Bsdf::Clearcoat");
+        };
+        assert_eq!((brdf, sampling), (ggx_core::GltfClearcoat::new(base, 0.75, 0.25), Sampling::Bounded));
+        // The untextured path builds the same BSDF.
+        let untextured = ggx_scene::Material::MetalRough(MetalRough { base_color_texture: TextureRef::NONE, ..m });
+        let Bsdf::Clearcoat { brdf: plain, .. } = Bsdf::new(&untextured, ggx_scene::BsdfStrategy::Vndf) else {
+            panic!("a coated material is a Bsdf::Clearcoat");
+        };
+        let white = GltfMetalRough::new(Vec3::ONE, 1.0, 1.0, 1.0, 1.5, Vec3::ONE, 1.0);
+        assert_eq!(plain, ggx_core::GltfClearcoat::new(white, 0.75, 0.25));
+        // No coat: the metal-rough BSDF itself.
+        let bare = MetalRough { clearcoat: 0.0, ..m };
+        assert!(
+            matches!(metal_rough_bsdf(&bare, &set, Vec2::ZERO, Sampling::Vndf), Bsdf::MetalRough { brdf, .. } if brdf == base)
+        );
     }
 }

@@ -209,6 +209,12 @@ pub struct MetalRough {
     /// The anisotropy direction: radians counter-clockwise from the mesh's tangent (toward the
     /// bitangent).
     pub anisotropy_rotation: f32,
+    /// `KHR_materials_clearcoat`'s `clearcoatFactor` in [0, 1] (0: no coat): the weight of a
+    /// GGX coat (`ior` 1.5) over the material, ggx-core's `GltfClearcoat`.
+    pub clearcoat: f32,
+    /// The coat's perceptual roughness (`clearcoatRoughnessFactor`) in [0, 1]; coat alpha =
+    /// roughness^2.
+    pub clearcoat_roughness: f32,
 }
 
 impl Default for MetalRough {
@@ -229,6 +235,8 @@ impl Default for MetalRough {
             specular_color: Vec3::ONE,
             anisotropy: 0.0,
             anisotropy_rotation: 0.0,
+            clearcoat: 0.0,
+            clearcoat_roughness: 0.0,
         }
     }
 }

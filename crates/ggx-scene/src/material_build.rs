@@ -27,7 +27,18 @@ pub(crate) fn build(
         MaterialType::Diffuse => ("diffuse", &["albedo", "normal_map", "normal_scale"]),
         MaterialType::MetalRough => (
             "metal-rough",
-            &["base_color", "metallic", "roughness", "normal_map", "normal_scale", "emission", "ior", "specular"],
+            &[
+                "base_color",
+                "metallic",
+                "roughness",
+                "normal_map",
+                "normal_scale",
+                "emission",
+                "ior",
+                "specular",
+                "clearcoat",
+                "clearcoat_roughness",
+            ],
         ),
         MaterialType::Conductor => {
             ("conductor", &["roughness", "alpha", "eta", "k", "f0", "preset", "energy_compensation"])
@@ -59,6 +70,8 @@ pub(crate) fn build(
         ("normal_scale", span_of(&raw.normal_scale)),
         ("emission", span_of(&raw.emission)),
         ("specular", span_of(&raw.specular)),
+        ("clearcoat", span_of(&raw.clearcoat)),
+        ("clearcoat_roughness", span_of(&raw.clearcoat_roughness)),
     ];
     src.only_keys(&path, type_name, &present, allowed)?;
     let missing = |what: &str| {
@@ -277,7 +290,9 @@ fn normal_map(
 /// `type = "metal-rough"`: glTF's metallic-roughness material. `base_color` (default 1),
 /// `metallic` (default 0), `roughness` (perceptual, default 0.5), each a value or a texture
 /// (`channel` defaults: metallic B, roughness G, as glTF packs them), `normal_map`,
-/// `emission` (RGB radiance or an sRGB texture), `ior` (default 1.5), `specular` (default 1).
+/// `emission` (RGB radiance or an sRGB texture), `ior` (default 1.5), `specular` (default 1),
+/// `clearcoat` (`KHR_materials_clearcoat`'s weight, default 0) and `clearcoat_roughness`
+/// (perceptual, default 0; only with a `clearcoat`).
 fn metal_rough(
     src: Source<'_>,
     raw: &RawMaterial,
@@ -335,6 +350,13 @@ fn metal_rough(
     };
     let ior = src.number_or(raw.ior.as_ref(), 1.5, &field("ior"), Interval::closed(1.0, 3.0))?;
     let specular = src.number_or(raw.specular.as_ref(), 1.0, &field("specular"), UNIT)?;
+    let clearcoat = src.number_or(raw.clearcoat.as_ref(), 0.0, &field("clearcoat"), UNIT)?;
+    let clearcoat_roughness =
+        src.number_or(raw.clearcoat_roughness.as_ref(), 0.0, &field("clearcoat_roughness"), UNIT)?;
+    if let Some(r) = raw.clearcoat_roughness.as_ref().filter(|_| raw.clearcoat.is_none()) {
+        let msg = "`clearcoat_roughness` needs `clearcoat`";
+        return Err(src.error(r.span(), &field("clearcoat_roughness"), ErrorKind::Conflict, msg));
+    }
     Ok(Material::MetalRough(MetalRough {
         base_color,
         base_color_texture,
@@ -351,5 +373,7 @@ fn metal_rough(
         specular_color: Vec3::ONE,
         anisotropy: 0.0,
         anisotropy_rotation: 0.0,
+        clearcoat,
+        clearcoat_roughness,
     }))
 }

@@ -100,6 +100,8 @@ pub(crate) struct RawMaterial {
     pub normal_scale: Opt<f64>,
     pub emission: Opt<Textured<[f64; 3]>>,
     pub specular: Opt<f64>,
+    pub clearcoat: Opt<f64>,
+    pub clearcoat_roughness: Opt<f64>,
     pub alpha: Opt<OneOrMany<2>>,
     pub eta: Opt<[f64; 3]>,
     pub k: Opt<[f64; 3]>,

@@ -21,7 +21,7 @@
 
 use crate::bvh_flat::{BvhNode, EMPTY_TREE, FlatBvh};
 use bytemuck::{Pod, Zeroable};
-use ggx_core::GgxConductor;
+use ggx_core::{GgxConductor, GltfMetalRough, Sampling};
 use ggx_render::{Bsdf, stream_seed};
 use ggx_scene::{
     Emitter, Environment, LightStrategy, Material, MetalRough, NO_INDEX, SamplerKind, Scene, ShadingNormals,
@@ -42,6 +42,7 @@ use glam::{Quat, Vec3};
 /// | `MAT_DIELECTRIC` 4 | alphas in `distribution` | transmittance | eta | absorption | energy scale on |
 /// | `MAT_THIN` 5 | - | transmittance | eta | - | - |
 /// | `MAT_METAL_ROUGH` 6 | alphas in `distribution` | base colour | metallic | `f0` | - |
+/// | `MAT_CLEARCOAT` 7 | as 6, and the coat in `fresnel.a` | base colour | metallic | `f0` | - |
 ///
 /// `MAT_METAL_ROUGH` is ggx-core's `GltfMetalRough` of the material's factors (ggx-render's
 /// `Bsdf::MetalRough`): `base_color` in `albedo`, `metallic` in `ior`, `f0` in `extra`,
@@ -49,6 +50,9 @@ use glam::{Quat, Vec3};
 /// `conductor.distribution`. A material whose parameters, normal or emission read a texture
 /// also has `surface`, the offset of its [`MetalRoughRecord`] in [`SceneTables::surface`]
 /// (else [`NO_INDEX`]), from which the kernel with `TEXTURES` builds the BRDF at each hit.
+/// `MAT_CLEARCOAT` is ggx-core's `GltfClearcoat` (ggx-render's `Bsdf::Clearcoat`): its base
+/// packed as `MAT_METAL_ROUGH`, `conductor.fresnel.a` = (coat `alpha_x`, `alpha_y`, `weight`,
+/// `base_albedo`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct MaterialRecord {
@@ -101,14 +105,21 @@ impl MaterialRecord {
                 (r.sampling, r.compensation) = (sampling as u32, bsdf.compensation);
             }
             Bsdf::Thin { sheet, transmittance } => (r.kind, r.ior, r.albedo) = (5, sheet.eta, transmittance.to_array()),
-            Bsdf::MetalRough { brdf, sampling } => {
-                (r.kind, r.albedo, r.ior, r.extra) = (6, brdf.base_color, brdf.metallic, brdf.f0);
-                (r.specular_weight, r.p_specular) = (brdf.specular_weight, brdf.p_specular);
-                (r.conductor.distribution, r.sampling) = (brdf.distribution, sampling as u32);
+            Bsdf::MetalRough { brdf, sampling } => r.set_metal_rough(6, &brdf, sampling),
+            Bsdf::Clearcoat { brdf, sampling } => {
+                r.set_metal_rough(7, &brdf.base, sampling);
+                r.conductor.fresnel.a = [brdf.coat.alpha_x, brdf.coat.alpha_y, brdf.weight, brdf.base_albedo];
             }
             Bsdf::Black => {}
         }
         r
+    }
+
+    /// Packs `brdf` as the table's `MAT_METAL_ROUGH` columns, with `kind`.
+    fn set_metal_rough(&mut self, kind: u32, brdf: &GltfMetalRough, sampling: Sampling) {
+        (self.kind, self.albedo, self.ior, self.extra) = (kind, brdf.base_color, brdf.metallic, brdf.f0);
+        (self.specular_weight, self.p_specular) = (brdf.specular_weight, brdf.p_specular);
+        (self.conductor.distribution, self.sampling) = (brdf.distribution, sampling as u32);
     }
 }
 
@@ -153,8 +164,10 @@ pub struct MetalRoughRecord {
     /// `f32::sin_cos` as ggx-render's `anisotropy_direction` computes them: a GPU's `sin` and
     /// `cos` need not round like the CPU's, and the values are the same at every hit.
     pub anisotropy_cos_sin: [f32; 2],
-    /// Padding.
-    pub pad: [u32; 2],
+    /// `KHR_materials_clearcoat`'s weight (word 58; 0: no coat).
+    pub clearcoat: f32,
+    /// The coat's perceptual roughness (word 59).
+    pub clearcoat_roughness: f32,
 }
 
 impl MetalRoughRecord {
@@ -180,7 +193,8 @@ impl MetalRoughRecord {
                 let (s, c) = m.anisotropy_rotation.sin_cos();
                 [c, s]
             },
-            pad: [0; 2],
+            clearcoat: m.clearcoat,
+            clearcoat_roughness: m.clearcoat_roughness,
         }
     }
 }

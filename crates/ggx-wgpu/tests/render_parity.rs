@@ -255,7 +255,10 @@ fn ranges_windows_and_resumes_on_the_gpu() {
 ///   0.6, MikkTSpace tangents) and the back wall (strength 0.5, rotation -1.1, its `TANGENT`s,
 ///   under its normal map);
 /// * an untextured metal-rough sphere: a half-metallic mirror lobe (roughness 0.02: a delta
-///   specular sample over a diffuse base);
+///   specular sample over a diffuse base) under a mirror clear coat (`KHR_materials_clearcoat`,
+///   factor 1, roughness 0: a delta coat sample);
+/// * clear coat on a textured material: the textured sphere (factor 0.8, roughness 0.3), its
+///   coat rebuilt over the textured base at each hit;
 /// * `KHR_lights_punctual`: a point light with a range, a spot light whose cone edge crosses
 ///   the floor and a directional light from behind the back wall, all at tilted nodes, and a
 ///   point light inside the textured sphere (dark unless the sphere is glass);
@@ -545,7 +548,7 @@ mod textured_scene {
         let gltf = format!(
             r#"{{
   "asset": {{"version": "2.0"}},
-  "extensionsUsed": ["KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_materials_anisotropy", "KHR_lights_punctual"],
+  "extensionsUsed": ["KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_materials_anisotropy", "KHR_lights_punctual", "KHR_materials_clearcoat"],
   "extensions": {{"KHR_lights_punctual": {{"lights": [
     {{"type": "point", "color": [1.0, 0.8, 0.6], "intensity": 3.0, "range": 4.0}},
     {{"type": "spot", "color": [0.6, 0.8, 1.0], "intensity": 6.0, "spot": {{"innerConeAngle": 0.25, "outerConeAngle": 0.5}}}},
@@ -579,8 +582,8 @@ mod textured_scene {
     {{"name": "wall", "pbrMetallicRoughness": {{"baseColorFactor": [0.9, 0.8, 0.7, 1], "baseColorTexture": {{"index": 3, "extensions": {{"KHR_texture_transform": {{"offset": [0.1, -0.2], "rotation": 0.4, "scale": [1.7, 1.3]}}}}}}, "metallicFactor": 0.0, "roughnessFactor": 0.55}}, "normalTexture": {{"index": 2}}, "extensions": {{"KHR_materials_anisotropy": {{"anisotropyStrength": 0.5, "anisotropyRotation": -1.1}}}}}},
     {{"name": "gold", "pbrMetallicRoughness": {{"baseColorFactor": [1.0, 0.77, 0.34, 1], "metallicFactor": 1.0, "roughnessFactor": 0.35}}, "extensions": {{"KHR_materials_anisotropy": {{"anisotropyStrength": 0.7, "anisotropyRotation": 0.6}}}}}},
     {{"name": "lamp", "pbrMetallicRoughness": {{"baseColorFactor": [0.5, 0.5, 0.5, 1], "metallicFactor": 0.0, "roughnessFactor": 0.8}}, "emissiveFactor": [1, 1, 1], "emissiveTexture": {{"index": 4}}, "extensions": {{"KHR_materials_emissive_strength": {{"emissiveStrength": 6}}}}}},
-    {{"name": "gloss", "pbrMetallicRoughness": {{"baseColorFactor": [0.2, 0.5, 0.8, 1], "metallicFactor": 0.5, "roughnessFactor": 0.02}}}},
-    {{"name": "tiles", "pbrMetallicRoughness": {{"baseColorTexture": {{"index": 5}}, "metallicRoughnessTexture": {{"index": 1}}, "metallicFactor": 0.6, "roughnessFactor": 0.9}}, "normalTexture": {{"index": 2, "scale": 1.3}}}}
+    {{"name": "gloss", "pbrMetallicRoughness": {{"baseColorFactor": [0.2, 0.5, 0.8, 1], "metallicFactor": 0.5, "roughnessFactor": 0.02}}, "extensions": {{"KHR_materials_clearcoat": {{"clearcoatFactor": 1.0}}}}}},
+    {{"name": "tiles", "pbrMetallicRoughness": {{"baseColorTexture": {{"index": 5}}, "metallicRoughnessTexture": {{"index": 1}}, "metallicFactor": 0.6, "roughnessFactor": 0.9}}, "normalTexture": {{"index": 2, "scale": 1.3}}, "extensions": {{"KHR_materials_clearcoat": {{"clearcoatFactor": 0.8, "clearcoatRoughnessFactor": 0.3}}}}}}
   ]
 }}"#,
             nodes_list = node_list.join(", "),
@@ -608,11 +611,11 @@ mod textured_scene {
 
 /// The textured metal-rough scene of [`textured_scene`] (sRGB and 16-bit base colours, a
 /// metallic-roughness texture, normal maps with the file's and with MikkTSpace tangents, textured emission,
-/// anisotropic and untextured metal-rough materials, every wrap mode, nearest and bilinear,
+/// anisotropic, clear-coated and untextured metal-rough materials, every wrap mode, nearest and bilinear,
 /// point, spot and directional lights beside the area light and the environment) renders on
 /// the GPU as on the CPU, under two integrator settings (MIS, NEE alone), within the bounds of
-/// a scene without an environment map; so does its geometry under one untextured metal-rough
-/// material, and under one absorbing rough glass (a point light inside the closed sphere: shadow
+/// a scene without an environment map; so does its geometry under one untextured clear-coated
+/// metal-rough material, and under one absorbing rough glass (a point light inside the closed sphere: shadow
 /// rays through the medium; the directional light behind the open wall, on its inside: reached
 /// through an infinite medium in the channel that does not absorb), each in a specialized
 /// kernel without `TEXTURES` whose only scene lights are the punctual ones (`AREA` on, no
@@ -621,7 +624,8 @@ mod textured_scene {
 fn a_textured_metal_rough_scene_matches_the_cpu_render() {
     let Some(ctx) = context_or_skip("the textured scene test") else { return };
     let dir = std::env::temp_dir().join(format!("ggx-wgpu-textured-{}", std::process::id()));
-    let plain = "type = \"metal-rough\"\nbase_color = [0.8, 0.5, 0.3]\nmetallic = 0.4\nroughness = 0.3";
+    let plain = "type = \"metal-rough\"\nbase_color = [0.8, 0.5, 0.3]\nmetallic = 0.4\nroughness = 0.3\n\
+                 clearcoat = 0.6\nclearcoat_roughness = 0.2";
     let glass = "type = \"dielectric\"\nior = 1.4\nroughness = 0.7\nabsorption = [0.8, 0.3, 0.0]";
     let settings = [
         ("spp = 8\nmax_depth = 6\nrussian_roulette = 3", None),
@@ -649,6 +653,9 @@ fn a_textured_metal_rough_scene_matches_the_cpu_render() {
                 .iter()
                 .filter(|m| matches!(m, ggx_scene::Material::MetalRough(r) if r.anisotropy > 0.0));
             assert_eq!(anisotropic.count(), 2);
+            let coated =
+                |m: &&ggx_scene::Material| matches!(m, ggx_scene::Material::MetalRough(r) if r.clearcoat > 0.0);
+            assert_eq!(scene.materials.iter().filter(coated).count(), 2);
         }
         let options = RenderOptions::default();
         let cpu =

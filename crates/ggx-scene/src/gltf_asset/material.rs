@@ -196,6 +196,7 @@ pub(crate) fn convert(
     });
     let roughness = unit(pbr.roughness_factor(), 1.0);
     let (anisotropy, anisotropy_rotation) = anisotropy(m, &mut notes);
+    let (clearcoat, clearcoat_roughness) = clearcoat(m, &mut notes);
     if let Some(t) = transmission.filter(|t| *t > 0.0) {
         let base = Vec3::new(unit(r, 1.0), unit(g, 1.0), unit(b, 1.0));
         let material = transmissive(m, t, base, roughness, ior, &mut notes);
@@ -219,7 +220,22 @@ pub(crate) fn convert(
         specular_color,
         anisotropy,
         anisotropy_rotation,
+        clearcoat,
+        clearcoat_roughness,
     }))
+}
+
+/// `KHR_materials_clearcoat` (`clearcoatFactor`, `clearcoatRoughnessFactor`, both default 0)
+/// from the material's extension JSON (the gltf crate 1.4 has no typed accessor for it); its
+/// textures are not read (a note says so).
+fn clearcoat(m: &gltf::Material<'_>, notes: &mut Vec<String>) -> (f32, f32) {
+    let Some(ext) = m.extensions().and_then(|e| e.get("KHR_materials_clearcoat")) else { return (0.0, 0.0) };
+    let number = |key: &str| ext.get(key).and_then(|v| v.as_f64()).map(|v| v as f32).filter(|v| v.is_finite());
+    let textures = ["clearcoatTexture", "clearcoatRoughnessTexture", "clearcoatNormalTexture"];
+    if textures.iter().any(|t| ext.get(*t).is_some()) {
+        notes.push("the clearcoat textures are ignored (the factors are used, the coat follows the normal)".to_owned());
+    }
+    (unit(number("clearcoatFactor").unwrap_or(0.0), 0.0), unit(number("clearcoatRoughnessFactor").unwrap_or(0.0), 0.0))
 }
 
 /// `KHR_materials_anisotropy` (strength, rotation) from the material's extension JSON (the

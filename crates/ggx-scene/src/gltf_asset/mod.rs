@@ -28,8 +28,17 @@ use crate::texture::TextureSet;
 
 /// Extensions ggx reads (others in `extensionsUsed` are ignored with a warning; in
 /// `extensionsRequired`, refused).
-pub const SUPPORTED_EXTENSIONS: &[&str] =
-    &["KHR_materials_emissive_strength", "KHR_materials_ior", "KHR_materials_specular", "KHR_texture_transform"];
+pub const SUPPORTED_EXTENSIONS: &[&str] = &[
+    "KHR_lights_punctual",
+    "KHR_materials_anisotropy",
+    "KHR_materials_clearcoat",
+    "KHR_materials_emissive_strength",
+    "KHR_materials_ior",
+    "KHR_materials_specular",
+    "KHR_materials_transmission",
+    "KHR_materials_volume",
+    "KHR_texture_transform",
+];
 
 /// A camera found in the asset, in the asset's world space.
 #[derive(Clone, Debug, PartialEq)]
@@ -105,8 +114,20 @@ pub(crate) fn load(path: &Path, limits: &Limits, textures: &mut TextureSet) -> R
             }
         }
     }
-    drop(unchecked);
-    let gltf = gltf::Gltf::from_slice(&bytes).map_err(|e| {
+    // extensionsRequired: checked here against what ggx reads (the error names the extension),
+    // then left out of gltf-json's validation, which refuses those it has no feature for
+    // (KHR_materials_anisotropy, KHR_materials_clearcoat) although ggx reads them.
+    let gltf::Gltf { document, blob } = unchecked;
+    let mut json = document.into_json();
+    for ext in std::mem::take(&mut json.extensions_required) {
+        if !SUPPORTED_EXTENSIONS.contains(&ext.as_str()) {
+            return Err(file(format!(
+                "extensionsRequired: {ext} is not supported (ggx reads {})",
+                SUPPORTED_EXTENSIONS.join(", ")
+            )));
+        }
+    }
+    let document = gltf::Document::from_json(json).map_err(|e| {
         file(match e {
             gltf::Error::Validation(problems) => {
                 let shown: Vec<String> = problems.iter().take(4).map(|(path, e)| format!("{path}: {e}")).collect();
@@ -117,16 +138,9 @@ pub(crate) fn load(path: &Path, limits: &Limits, textures: &mut TextureSet) -> R
             other => format!("invalid glTF: {other}"),
         })
     })?;
+    let gltf = gltf::Gltf { document, blob };
     let base_dir = path.parent().unwrap_or(Path::new("."));
     let mut warnings = Vec::new();
-    for ext in gltf.extensions_required() {
-        if !SUPPORTED_EXTENSIONS.contains(&ext) {
-            return Err(file(format!(
-                "extensionsRequired: {ext} is not supported (ggx reads {})",
-                SUPPORTED_EXTENSIONS.join(", ")
-            )));
-        }
-    }
     let ignored: Vec<_> = gltf.extensions_used().filter(|e| !SUPPORTED_EXTENSIONS.contains(e)).collect();
     if !ignored.is_empty() {
         warnings.push(file(format!("ignores the extensions {}", ignored.join(", "))));

@@ -16,6 +16,7 @@ const MAT_BLACK: u32 = 3u;
 const MAT_DIELECTRIC: u32 = 4u;
 const MAT_THIN: u32 = 5u;
 const MAT_METAL_ROUGH: u32 = 6u;
+const MAT_CLEARCOAT: u32 = 7u;
 // Word offsets of the fields of a MetalRoughRecord (scene_upload.rs) in `surface`.
 const MR_BASE_COLOR: u32 = 0u;
 const MR_METALLIC: u32 = 3u;
@@ -32,6 +33,8 @@ const MR_ROUGHNESS_TEXTURE: u32 = 32u;
 const MR_NORMAL_TEXTURE: u32 = 40u;
 const MR_EMISSION_TEXTURE: u32 = 48u;
 const MR_ANISOTROPY_COS_SIN: u32 = 56u;
+const MR_CLEARCOAT: u32 = 58u;
+const MR_CLEARCOAT_ROUGHNESS: u32 = 59u;
 const LIGHT_BSDF: u32 = 0u;
 const LIGHT_MIS: u32 = 2u;
 const SHADOW_SCALE: f32 = 1.0f - 1e-3f;
@@ -67,8 +70,16 @@ fn material_metal_rough(m: Material) -> GltfMetalRough {
     return GltfMetalRough(m.albedo, m.ior, m.extra, m.specular_weight, m.conductor.distribution, m.p_specular, 0u);
 }
 
-// The record m shading as GltfMetalRough b (textured.rs `metal_rough_bsdf`: the same technique).
-fn with_metal_rough(m_in: Material, b: GltfMetalRough) -> Material {
+// The coated record as ggx-core's GltfClearcoat: the base as in material_metal_rough, the coat's alphas, weight and
+// base albedo in conductor.fresnel.a (scene_upload.rs `MaterialRecord` table).
+fn material_clearcoat(m: Material) -> GltfClearcoat {
+    let a = m.conductor.fresnel.a;
+    return GltfClearcoat(material_metal_rough(m), TrowbridgeReitz(a.x, a.y), a.z, a.w);
+}
+
+// The record m shading as GltfMetalRough b (textured.rs `metal_rough_bsdf`: the same technique), under the coat of
+// the MetalRoughRecord at word o for MAT_CLEARCOAT (Bsdf::metal_rough: gltf_clearcoat_new(b, weight, roughness^2)).
+fn with_metal_rough(m_in: Material, b: GltfMetalRough, o: u32) -> Material {
     var m = m_in;
     m.albedo = b.base_color;
     m.ior = b.metallic;
@@ -76,6 +87,11 @@ fn with_metal_rough(m_in: Material, b: GltfMetalRough) -> Material {
     m.specular_weight = b.specular_weight;
     m.conductor.distribution = b.distribution;
     m.p_specular = b.p_specular;
+    if m.kind == MAT_CLEARCOAT {
+        let r = surface_f32(o + MR_CLEARCOAT_ROUGHNESS);
+        let c = gltf_clearcoat_new(b, surface_f32(o + MR_CLEARCOAT), r * r);
+        m.conductor.fresnel.a = vec4(c.coat.alpha_x, c.coat.alpha_y, c.weight, c.base_albedo);
+    }
     return m;
 }
 
@@ -109,6 +125,8 @@ fn bsdf_eval(m: Material, wo: vec3<f32>, wi: vec3<f32>) -> vec3<f32> {
         return ggx_conductor_eval(m.conductor, wo, wi) + m.albedo * (t * wi.z * FRAC_1_PI);
     } else if m.kind == MAT_METAL_ROUGH {
         return gltf_metal_rough_eval(material_metal_rough(m), wo, wi);
+    } else if m.kind == MAT_CLEARCOAT {
+        return gltf_clearcoat_eval(material_clearcoat(m), wo, wi);
     }
     return vec3(0.0);
 }
@@ -130,6 +148,8 @@ fn bsdf_pdf(m: Material, wo: vec3<f32>, wi: vec3<f32>) -> f32 {
         return p * ggx_conductor_pdf(m.conductor, wo, wi, m.sampling) + (1.0 - p) * pdf_cosine_hemisphere(wi);
     } else if m.kind == MAT_METAL_ROUGH {
         return gltf_metal_rough_pdf(material_metal_rough(m), wo, wi, m.sampling);
+    } else if m.kind == MAT_CLEARCOAT {
+        return gltf_clearcoat_pdf(material_clearcoat(m), wo, wi, m.sampling);
     }
     return 0.0;
 }
@@ -178,6 +198,8 @@ fn bsdf_sample(m: Material, wo: vec3<f32>, u_lobe: f32, u: vec2<f32>) -> BsdfSam
         return BsdfSample(wi, bsdf_eval(m, wo, wi) / pdf, pdf, 0u, 1u);
     } else if m.kind == MAT_METAL_ROUGH {
         return gltf_metal_rough_sample(material_metal_rough(m), wo, u, u_lobe, m.sampling);
+    } else if m.kind == MAT_CLEARCOAT {
+        return gltf_clearcoat_sample(material_clearcoat(m), wo, u, u_lobe, m.sampling);
     }
     return none;
 }
@@ -243,7 +265,7 @@ fn normal_map_at(o: u32, uv: vec2<f32>) -> vec3<f32> {
 // metal-rough material with an emission texture gives its factor times the texture (textured.rs `emission_at`).
 fn emission_at(mi: u32, tri: Triangle, b1: f32, b2: f32) -> vec3<f32> {
     let m = materials[mi];
-    if TEXTURES && m.kind == MAT_METAL_ROUGH && m.surface != NO_INDEX {
+    if TEXTURES && m.surface != NO_INDEX {
         let r = load_texture_ref(m.surface + MR_EMISSION_TEXTURE);
         if texture_ref_is_some(r) {
             return surface_vec3(m.surface + MR_EMISSION) * texture_sample(r, uv_at(tri, b1, b2)).xyz;
@@ -504,11 +526,12 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
                 radiance += beta * le * w;
             }
         }
-        // A textured material: its BSDF and normal at this point.
+        // A textured material (only textured metal-rough records, coated or not, have a surface): its BSDF and normal
+        // at this point.
         var mapped_normal = vec3(0.0);
-        if TEXTURES && m.kind == MAT_METAL_ROUGH && m.surface != NO_INDEX {
+        if TEXTURES && m.surface != NO_INDEX {
             let uv = uv_at(tri, b.x, b.y);
-            m = with_metal_rough(m, metal_rough_at(m.surface, uv));
+            m = with_metal_rough(m, metal_rough_at(m.surface, uv), m.surface);
             mapped_normal = normal_map_at(m.surface, uv);
         }
         if (!PLASTIC && m.kind == MAT_PLASTIC) || (!DIELECTRIC && bsdf_transmits(m)) {
@@ -534,7 +557,7 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
             ns = select(n, -n, dot3(n, ng) < 0.0);
         }
         var frame = shading_frame(ns);
-        if TEXTURES && m.kind == MAT_METAL_ROUGH && m.surface != NO_INDEX && tri.normals < params.uv_count
+        if TEXTURES && m.surface != NO_INDEX && tri.normals < params.uv_count
             && surface_f32(m.surface + MR_ANISOTROPY) != 0.0 {
             // KHR_materials_anisotropy: alpha_x along the mesh's tangent turned by the rotation.
             let ta = tangent_at(ns, tri, tri.normals, b.x, b.y);
