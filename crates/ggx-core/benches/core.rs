@@ -6,8 +6,8 @@
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use ggx_core::batch::{self, Vec3Slices, Vec3SlicesMut};
 use ggx_core::{
-    Fresnel, GgxConductor, GgxConductorMs, GgxDielectric, GgxDielectricMs, Sampling, TransportMode, Vec2, Vec3, energy,
-    energy_dielectric, warp,
+    Fresnel, GgxConductor, GgxConductorMs, GgxDielectric, GgxDielectricMs, Sampling, TransportMode, TrowbridgeReitz,
+    Vec2, Vec3, energy, energy_dielectric, warp,
 };
 use rand_core::{Rng, SeedableRng};
 use std::hint::black_box;
@@ -71,6 +71,11 @@ fn scalar(c: &mut Criterion) {
     g.finish();
 }
 
+/// `batch::sample_vndf`'s signature.
+type SampleFn = fn(&TrowbridgeReitz, Vec3Slices, &[f32], &[f32], Vec3SlicesMut, &mut [f32]) -> usize;
+/// `batch::eval`'s signature.
+type EvalFn = fn(&GgxConductor, Vec3Slices, Vec3Slices, Vec3SlicesMut);
+
 fn batched(c: &mut Criterion) {
     let v = inputs();
     let brdf = GgxConductor::isotropic(0.3, Fresnel::One);
@@ -84,28 +89,35 @@ fn batched(c: &mut Criterion) {
     let (mut rx, mut ry, mut rz, mut pdf) = (vec![0.0; N], vec![0.0; N], vec![0.0; N], vec![0.0; N]);
     let mut g = c.benchmark_group("batch");
     g.throughput(Throughput::Elements(N as u64));
-    g.bench_function("sample_vndf", |b| {
-        b.iter(|| {
-            batch::sample_vndf(
-                &brdf.distribution,
-                Vec3Slices { x: black_box(&ox), y: &oy, z: &oz },
-                &u0,
-                &u1,
-                Vec3SlicesMut { x: &mut rx, y: &mut ry, z: &mut rz },
-                &mut pdf,
-            )
-        })
-    });
-    g.bench_function("eval", |b| {
-        b.iter(|| {
-            batch::eval(
-                &brdf,
-                Vec3Slices { x: black_box(&ox), y: &oy, z: &oz },
-                Vec3Slices { x: &ix, y: &iy, z: &iz },
-                Vec3SlicesMut { x: &mut rx, y: &mut ry, z: &mut rz },
-            )
-        })
-    });
+    // The dispatched loops (the CPU's widest ISA) beside the same loops at the baseline ISA.
+    let samplers =
+        [("sample_vndf", batch::sample_vndf as SampleFn), ("sample_vndf_portable", batch::sample_vndf_portable)];
+    for (name, f) in samplers {
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                f(
+                    &brdf.distribution,
+                    Vec3Slices { x: black_box(&ox), y: &oy, z: &oz },
+                    &u0,
+                    &u1,
+                    Vec3SlicesMut { x: &mut rx, y: &mut ry, z: &mut rz },
+                    &mut pdf,
+                )
+            })
+        });
+    }
+    for (name, f) in [("eval", batch::eval as EvalFn), ("eval_portable", batch::eval_portable)] {
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                f(
+                    &brdf,
+                    Vec3Slices { x: black_box(&ox), y: &oy, z: &oz },
+                    Vec3Slices { x: &ix, y: &iy, z: &iz },
+                    Vec3SlicesMut { x: &mut rx, y: &mut ry, z: &mut rz },
+                )
+            })
+        });
+    }
     g.finish();
 }
 

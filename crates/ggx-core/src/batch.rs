@@ -3,9 +3,17 @@
 //! libm (the polynomial [`crate::math::sincos_2pi`]), and slices re-sliced to one common
 //! length so bounds checks vanish.
 //!
+//! With the `std` feature, [`sample_vndf`] and [`eval`] pick the widest vector ISA of the CPU
+//! at run time (`pulp`'s dispatch: x86-64-v4 with AVX-512, v3 with AVX2, else the baseline) and
+//! compile the same loop for it; [`sample_vndf_portable`] and [`eval_portable`] are the loops at
+//! the build's baseline ISA (what the dispatching functions run without `std`). Every lane is
+//! bit-identical whichever ISA runs it: Rust never contracts `a * b + c` into a fused
+//! multiply-add, and `sqrt` and `/` are correctly rounded at every width.
+//!
 //! Lanes whose sample is invalid (below the horizon, back-facing normal, degenerate input)
 //! get a zero direction and a zero pdf instead of an `Option`.
 
+use crate::fresnel::kind;
 use crate::math::{ONE_MINUS_EPSILON, sincos_2pi};
 use crate::{GgxConductor, TrowbridgeReitz};
 
@@ -45,6 +53,59 @@ fn rsqrt_or_zero(len2: f32) -> f32 {
 /// sampled here (every lane gets zero, as `GgxConductor::pdf` is zero for it): sample mirrors
 /// with [`GgxConductor::sample`].
 pub fn sample_vndf(
+    dist: &TrowbridgeReitz,
+    wo: Vec3Slices,
+    u0: &[f32],
+    u1: &[f32],
+    wi: Vec3SlicesMut,
+    pdf: &mut [f32],
+) -> usize {
+    #[cfg(feature = "std")]
+    {
+        pulp::Arch::new().dispatch(SampleVndf { dist, wo, u0, u1, wi, pdf })
+    }
+    #[cfg(not(feature = "std"))]
+    {
+        sample_vndf_lanes(dist, wo, u0, u1, wi, pdf)
+    }
+}
+
+/// [`sample_vndf`] at the build's baseline ISA, without run-time dispatch; the same lanes bit for bit.
+pub fn sample_vndf_portable(
+    dist: &TrowbridgeReitz,
+    wo: Vec3Slices,
+    u0: &[f32],
+    u1: &[f32],
+    wi: Vec3SlicesMut,
+    pdf: &mut [f32],
+) -> usize {
+    sample_vndf_lanes(dist, wo, u0, u1, wi, pdf)
+}
+
+/// The arguments of [`sample_vndf`], for `pulp`'s dispatch.
+#[cfg(feature = "std")]
+struct SampleVndf<'a, 'b> {
+    dist: &'a TrowbridgeReitz,
+    wo: Vec3Slices<'a>,
+    u0: &'a [f32],
+    u1: &'a [f32],
+    wi: Vec3SlicesMut<'b>,
+    pdf: &'b mut [f32],
+}
+
+#[cfg(feature = "std")]
+impl pulp::WithSimd for SampleVndf<'_, '_> {
+    type Output = usize;
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> usize {
+        sample_vndf_lanes(self.dist, self.wo, self.u0, self.u1, self.wi, self.pdf)
+    }
+}
+
+/// The loop of [`sample_vndf`], inlined into each ISA's context.
+#[inline(always)]
+fn sample_vndf_lanes(
     dist: &TrowbridgeReitz,
     wo: Vec3Slices,
     u0: &[f32],
@@ -108,6 +169,64 @@ pub fn sample_vndf(
 /// `f(wo, wi) |wi.z|` for a batch, written to `out` as RGB; the same values as
 /// [`GgxConductor::eval`] (for unit inputs, up to rounding). Processes `min` of all lengths.
 pub fn eval(brdf: &GgxConductor, wo: Vec3Slices, wi: Vec3Slices, out: Vec3SlicesMut) {
+    #[cfg(feature = "std")]
+    {
+        pulp::Arch::new().dispatch(Eval { brdf, wo, wi, out })
+    }
+    #[cfg(not(feature = "std"))]
+    {
+        eval_fresnel(brdf, wo, wi, out)
+    }
+}
+
+/// [`eval`] at the build's baseline ISA, without run-time dispatch; the same lanes bit for bit.
+pub fn eval_portable(brdf: &GgxConductor, wo: Vec3Slices, wi: Vec3Slices, out: Vec3SlicesMut) {
+    eval_fresnel(brdf, wo, wi, out)
+}
+
+/// The arguments of [`eval`], for `pulp`'s dispatch.
+#[cfg(feature = "std")]
+struct Eval<'a, 'b> {
+    brdf: &'a GgxConductor,
+    wo: Vec3Slices<'a>,
+    wi: Vec3Slices<'a>,
+    out: Vec3SlicesMut<'b>,
+}
+
+#[cfg(feature = "std")]
+impl pulp::WithSimd for Eval<'_, '_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        eval_fresnel(self.brdf, self.wo, self.wi, self.out)
+    }
+}
+
+/// [`eval_lanes`] with the Fresnel term's kind chosen once for the batch, so that each loop is
+/// branch-free: `FresnelParams::eval` of that kind (the same function, so the same bits).
+#[inline(always)]
+fn eval_fresnel(brdf: &GgxConductor, wo: Vec3Slices, wi: Vec3Slices, out: Vec3SlicesMut) {
+    let f = brdf.fresnel;
+    match f.kind {
+        kind::SCHLICK => eval_lanes(brdf, wo, wi, out, |c| f.eval_as(kind::SCHLICK, c)),
+        kind::CONDUCTOR => eval_lanes(brdf, wo, wi, out, |c| f.eval_as(kind::CONDUCTOR, c)),
+        kind::DIELECTRIC => eval_lanes(brdf, wo, wi, out, |c| f.eval_as(kind::DIELECTRIC, c)),
+        // kind::ONE and any unknown kind: F = 1.
+        _ => eval_lanes(brdf, wo, wi, out, |c| f.eval_as(kind::ONE, c)),
+    }
+}
+
+/// The loop of [`eval`] with the Fresnel term `fresnel(cos(wo, wm))`, inlined into each ISA's
+/// context.
+#[inline(always)]
+fn eval_lanes(
+    brdf: &GgxConductor,
+    wo: Vec3Slices,
+    wi: Vec3Slices,
+    out: Vec3SlicesMut,
+    fresnel: impl Fn(f32) -> glam::Vec3,
+) {
     let n =
         [wo.x.len(), wo.y.len(), wo.z.len(), wi.x.len(), wi.y.len(), wi.z.len(), out.x.len(), out.y.len(), out.z.len()]
             .into_iter()
@@ -136,7 +255,7 @@ pub fn eval(brdf: &GgxConductor, wo: Vec3Slices, wi: Vec3Slices, out: Vec3Slices
         let cos_om = a * mx + b * my + c * mz;
         let ok = !delta && c > 0.0 && g > 0.0 && cos_om > 0.0 && v < f32::INFINITY;
         let v = if ok { v } else { 0.0 };
-        let fr = brdf.fresnel.eval(cos_om);
+        let fr = fresnel(cos_om);
         rx[i] = fr.x * v;
         ry[i] = fr.y * v;
         rz[i] = fr.z * v;
@@ -204,6 +323,68 @@ mod tests {
                 }
             }
             assert!(valid.abs_diff(scalar_valid) <= 4, "{valid} vs {scalar_valid}");
+        }
+    }
+
+    /// The dispatched loops (the widest ISA of this CPU) give the baseline loops' lanes bit for
+    /// bit: over the alpha range, every Fresnel kind, and hostile lanes (NaN, infinities, zero,
+    /// subnormal, non-unit, below the horizon).
+    #[test]
+    fn dispatched_lanes_are_the_portable_lanes_bit_for_bit() {
+        let (mut wo, u) = lanes(1000);
+        let mut wi: Vec<Vec3> = u.iter().map(|&v| crate::warp::sample_cosine_hemisphere(v)).collect();
+        let hostile = [f32::NAN, f32::INFINITY, -f32::INFINITY, 0.0, -0.0, 1e-40, 1.0 - f32::EPSILON / 2.0, 3e38];
+        for (i, &x) in hostile.iter().enumerate() {
+            wo[5 + i] = Vec3::new(x, 0.3, 0.5);
+            wo[20 + i] = Vec3::new(0.1, 0.2, x);
+            wi[40 + i] = Vec3::new(0.2, x, 0.4);
+            wi[60 + i] = Vec3::new(x, x, x);
+        }
+        let (mut u0, mut u1): (Vec<f32>, Vec<f32>) = (u.iter().map(|v| v.x).collect(), u.iter().map(|v| v.y).collect());
+        for (i, &x) in hostile.iter().enumerate() {
+            (u0[80 + i], u1[90 + i]) = (x, x);
+        }
+        let col = |v: &Vec<Vec3>, f: fn(&Vec3) -> f32| -> Vec<f32> { v.iter().map(f).collect() };
+        let (ox, oy, oz) = (col(&wo, |w| w.x), col(&wo, |w| w.y), col(&wo, |w| w.z));
+        let (ix, iy, iz) = (col(&wi, |w| w.x), col(&wi, |w| w.y), col(&wi, |w| w.z));
+        let bits = |v: &[f32]| -> Vec<u32> { v.iter().map(|x| x.to_bits()).collect() };
+        let fresnels = [
+            Fresnel::One,
+            Fresnel::Schlick { f0: Vec3::new(0.9, 0.6, 0.3) },
+            Fresnel::Conductor { eta: Vec3::new(0.2, 0.9, 1.1), k: Vec3::new(3.9, 2.4, 2.2) },
+            Fresnel::Dielectric { eta: 1.5 },
+        ];
+        let alphas =
+            [(1e-4f32, 1e-4f32), (9.99e-4, 5e-4), (1e-3, 1e-3), (0.01, 0.002), (0.3, 0.3), (0.05, 0.5), (1.0, 1.0)];
+        for (ax, ay) in alphas {
+            for fresnel in fresnels {
+                let brdf = GgxConductor::new(ax, ay, fresnel);
+                let run = |portable: bool| {
+                    let mut r =
+                        [std::vec![0.0f32; 1000], std::vec![0.0; 1000], std::vec![0.0; 1000], std::vec![0.0; 1000]];
+                    let [rx, ry, rz, pdf] = &mut r;
+                    let o = Vec3Slices { x: &ox, y: &oy, z: &oz };
+                    let out = Vec3SlicesMut { x: rx, y: ry, z: rz };
+                    let valid = if portable {
+                        sample_vndf_portable(&brdf.distribution, o, &u0, &u1, out, pdf)
+                    } else {
+                        sample_vndf(&brdf.distribution, o, &u0, &u1, out, pdf)
+                    };
+                    let mut e = [std::vec![0.0f32; 1000], std::vec![0.0; 1000], std::vec![0.0; 1000]];
+                    let [ex, ey, ez] = &mut e;
+                    let i = Vec3Slices { x: &ix, y: &iy, z: &iz };
+                    let out = Vec3SlicesMut { x: ex, y: ey, z: ez };
+                    if portable {
+                        eval_portable(&brdf, o, i, out)
+                    } else {
+                        eval(&brdf, o, i, out)
+                    }
+                    let all: Vec<Vec<u32>> = r.iter().chain(&e).map(|v| bits(v)).collect();
+                    assert!(r.iter().chain(&e).flatten().all(|x| x.is_finite()), "{ax} {ay} {fresnel:?}: finite lanes");
+                    (valid, all)
+                };
+                assert_eq!(run(false), run(true), "{ax} {ay} {fresnel:?}");
+            }
         }
     }
 

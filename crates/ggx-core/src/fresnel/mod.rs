@@ -111,7 +111,14 @@ impl FresnelParams {
     /// Reflectance for the cosine between the incident direction and the microfacet normal.
     #[inline]
     pub fn eval(&self, cos_theta: f32) -> Vec3 {
-        let f = match self.kind {
+        self.eval_as(self.kind, cos_theta)
+    }
+
+    /// [`Self::eval`] as if `kind` were stored: inlined everywhere, so a caller that passes a
+    /// constant kind (ggx-core's batch loops, one loop per kind) gets a branch-free body.
+    #[inline(always)]
+    pub(crate) fn eval_as(&self, kind: u32, cos_theta: f32) -> Vec3 {
+        let f = match kind {
             kind::SCHLICK => fresnel_schlick(cos_theta, v3(self.a), v3(self.b)),
             kind::CONDUCTOR => {
                 let (eta, k) = (self.a, self.b);

@@ -205,6 +205,8 @@ fn fract_abs(u: f32) -> f32 {
 
 // (sin 2 pi u, cos 2 pi u) for any u: exact reduction to sign(u) fract_abs(u) (sine odd, cosine
 // even), nearest quarter turn, Taylor polynomials of degree 9 and 8 on [-pi/4, pi/4]; NaN, inf -> (+-0, 1).
+// The Rust twin reduces by float floors and compares (so its batch loops vectorize); math.rs's
+// sincos_by_float_floor_is_the_integer_cast_formulation proves it equal to this one bit for bit.
 fn sincos_2pi(u: f32) -> vec2<f32> {
     let v = fract_abs(u);
     let q = i32(v * 4.0 + 0.5);
