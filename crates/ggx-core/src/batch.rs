@@ -14,7 +14,7 @@
 //! get a zero direction and a zero pdf instead of an `Option`.
 
 use crate::fresnel::kind;
-use crate::math::{ONE_MINUS_EPSILON, sincos_2pi};
+use crate::math::{ONE_MINUS_EPSILON, sincos_2pi_with};
 use crate::{GgxConductor, TrowbridgeReitz};
 
 /// Three equally long slices holding the x, y and z components of directions.
@@ -66,7 +66,7 @@ pub fn sample_vndf(
     }
     #[cfg(not(feature = "std"))]
     {
-        sample_vndf_lanes(dist, wo, u0, u1, wi, pdf)
+        sample_vndf_lanes::<false>(dist, wo, u0, u1, wi, pdf)
     }
 }
 
@@ -79,7 +79,7 @@ pub fn sample_vndf_portable(
     wi: Vec3SlicesMut,
     pdf: &mut [f32],
 ) -> usize {
-    sample_vndf_lanes(dist, wo, u0, u1, wi, pdf)
+    sample_vndf_lanes::<false>(dist, wo, u0, u1, wi, pdf)
 }
 
 /// The arguments of [`sample_vndf`], for `pulp`'s dispatch.
@@ -99,13 +99,19 @@ impl pulp::WithSimd for SampleVndf<'_, '_> {
 
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) -> usize {
-        sample_vndf_lanes(self.dist, self.wo, self.u0, self.u1, self.wi, self.pdf)
+        // Every dispatched ISA but the scalar fallback has SSE4.1's rounding instruction.
+        if S::IS_SCALAR {
+            sample_vndf_lanes::<false>(self.dist, self.wo, self.u0, self.u1, self.wi, self.pdf)
+        } else {
+            sample_vndf_lanes::<true>(self.dist, self.wo, self.u0, self.u1, self.wi, self.pdf)
+        }
     }
 }
 
-/// The loop of [`sample_vndf`], inlined into each ISA's context.
+/// The loop of [`sample_vndf`], inlined into each ISA's context; `ROUND`: floors by the
+/// rounding instruction (`math::sincos_2pi_with`), for ISAs that have one.
 #[inline(always)]
-fn sample_vndf_lanes(
+fn sample_vndf_lanes<const ROUND: bool>(
     dist: &TrowbridgeReitz,
     wo: Vec3Slices,
     u0: &[f32],
@@ -133,7 +139,7 @@ fn sample_vndf_lanes(
         // Uniform point on the cap z in [-vz, 1].
         let a = u0[i].max(0.0).min(ONE_MINUS_EPSILON);
         let b = u1[i].max(0.0).min(ONE_MINUS_EPSILON);
-        let (sin_phi, cos_phi) = sincos_2pi(a);
+        let (sin_phi, cos_phi) = sincos_2pi_with::<ROUND>(a);
         let t = (1.0 - b) * (1.0 + vz);
         let z = t - vz;
         let st = crate::math::sqrt((1.0 - z * z).max(0.0));

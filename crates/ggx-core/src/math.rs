@@ -66,14 +66,26 @@ pub fn normalize_or_zero(v: Vec3) -> Vec3 {
     }
 }
 
-/// `floor(x)` for `0 <= x < 2^23`, exact, in float arithmetic alone: `x + 2^23` rounds `x` to
-/// an integer (the spacing there is 1), then one step down where it rounded up. Branch-free
-/// with no integer conversion (a saturating `as` cast is scalarized by LLVM, and `f32::trunc`
-/// is a library call below SSE4.1), so the batch loops vectorize on every x86-64.
+/// `floor(x)` for `0 <= x < 2^23`, exact, without an integer conversion (a saturating `as` cast
+/// is scalarized by LLVM). `ROUND`: by the rounding instruction (std's `f32::trunc`, equal to the
+/// floor there; one instruction where SSE4.1 is on, as in ggx-core's dispatched batch loops, but
+/// a library call at the x86-64 baseline), else by float arithmetic alone: `x + 2^23` rounds `x`
+/// to an integer (the spacing there is 1), then one step down where it rounded up.
 #[inline(always)]
-fn floor_small(x: f32) -> f32 {
-    let r = (x + TWO_POW_23) - TWO_POW_23;
-    if r > x { r - 1.0 } else { r }
+fn floor_small<const ROUND: bool>(x: f32) -> f32 {
+    if ROUND {
+        #[cfg(feature = "std")]
+        {
+            x.trunc()
+        }
+        #[cfg(not(feature = "std"))]
+        {
+            libm::truncf(x)
+        }
+    } else {
+        let r = (x + TWO_POW_23) - TWO_POW_23;
+        if r > x { r - 1.0 } else { r }
+    }
 }
 
 /// `2^23`: every `f32` at or above it in magnitude is an integer.
@@ -82,10 +94,10 @@ const TWO_POW_23: f32 = 8_388_608.0;
 /// `|u| - trunc(|u|)`, the fractional part of `|u|` in `[0, 1)`, exact (Sterbenz); 0 for
 /// `|u| >= 2^23` (integers), infinities and NaN. Identity on `[0, 1)`.
 #[inline(always)]
-fn fract_abs(u: f32) -> f32 {
+fn fract_abs<const ROUND: bool>(u: f32) -> f32 {
     let a = u.abs();
     // NaN fails the comparison.
-    if a < TWO_POW_23 { a - floor_small(a) } else { 0.0 }
+    if a < TWO_POW_23 { a - floor_small::<ROUND>(a) } else { 0.0 }
 }
 
 /// `(sin 2 pi u, cos 2 pi u)` for any `f32`: exact reduction `u -> sign(u) fract_abs(u)` (sine
@@ -97,9 +109,16 @@ fn fract_abs(u: f32) -> f32 {
 /// On `[0, 1)` the reduction is the identity, so the result there is that of the polynomial alone.
 #[inline(always)]
 pub fn sincos_2pi(u: f32) -> (f32, f32) {
-    let v = fract_abs(u);
+    sincos_2pi_with::<false>(u)
+}
+
+/// [`sincos_2pi`] with its floors taken as `floor_small::<ROUND>` does: the same bits either way;
+/// `ROUND = true` for loops compiled with SSE4.1 or later (ggx-core's dispatched batch loops).
+#[inline(always)]
+pub(crate) fn sincos_2pi_with<const ROUND: bool>(u: f32) -> (f32, f32) {
+    let v = fract_abs::<ROUND>(u);
     // Nearest quarter turn of v in [0, 1): q in 0..=4, an integer-valued f32.
-    let q = floor_small(v * 4.0 + 0.5);
+    let q = floor_small::<ROUND>(v * 4.0 + 0.5);
     let r = v - q * 0.25; // exact (Sterbenz), in [-1/8, 1/8]
     let x = r * TAU;
     let x2 = x * x;
@@ -132,7 +151,7 @@ mod tests {
         assert!(s <= 0.0 && s > -1e-6 && c == 1.0);
     }
 
-    /// The reduction by `floor_small` and float quadrant tests is the integer-cast formulation (what
+    /// The reduction by `floor_small` (both ways) and float quadrant tests is the integer-cast formulation (what
     /// `ggx_core.wgsl` writes) bit for bit, over every 61st f32 bit pattern and the edges.
     #[test]
     fn sincos_by_float_floor_is_the_integer_cast_formulation() {
@@ -154,8 +173,10 @@ mod tests {
             [0.0f32, -0.0, 0.125, 0.375, 0.625, 0.875, ONE_MINUS_EPSILON, 1.0, TWO_POW_23, f32::NAN, f32::INFINITY];
         let patterns = (0..=u32::MAX / 61).map(|i| f32::from_bits(i * 61));
         for u in patterns.chain(edges).chain(edges.map(|e| -e)) {
-            let (got, want) = (sincos_2pi(u), by_casts(u));
-            assert_eq!((got.0.to_bits(), got.1.to_bits()), (want.0.to_bits(), want.1.to_bits()), "u = {u:e}");
+            let want = by_casts(u);
+            for got in [sincos_2pi(u), sincos_2pi_with::<true>(u)] {
+                assert_eq!((got.0.to_bits(), got.1.to_bits()), (want.0.to_bits(), want.1.to_bits()), "u = {u:e}");
+            }
         }
     }
 
@@ -175,7 +196,7 @@ mod tests {
         for u in [0.1f32, 0.3, 0.5, 0.77, ONE_MINUS_EPSILON, 1e-30, 1e-45] {
             let ((s, c), (t, d)) = (sincos_2pi(u), sincos_2pi(-u));
             assert!(s == -t && c == d, "{u}");
-            assert_eq!(fract_abs(u), u);
+            assert_eq!((fract_abs::<false>(u), fract_abs::<true>(u)), (u, u));
         }
         // Integers (every |u| >= 2^23), NaN and infinities: (0, 1).
         for u in [f32::NAN, -f32::NAN, f32::INFINITY, f32::NEG_INFINITY, f32::MAX, -f32::MAX, 8_388_608.0, -1e30, 5.0] {
