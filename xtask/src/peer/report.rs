@@ -490,7 +490,8 @@ fn micro_section(md: &mut String, m: &MicroReport) {
     let _ = writeln!(
         md,
         "## GGX micro-benchmark\n\nggx-core: its criterion benchmark (`cargo bench -p ggx-core --bench core`, one \
-         thread, 1024 cached inputs per iteration, default target CPU). Mitsuba: `MicrofacetDistribution` and \
+         thread, 1024 cached inputs per iteration, default target CPU; the batch rows pick the CPU's widest vector \
+         ISA at run time). Mitsuba: `MicrofacetDistribution` and \
          `roughconductor` (GGX, visible normals, F = 1) in `llvm_ad_rgb`, {} lanes per launch, JIT-compiled for this \
          CPU, best of 5. Alpha 0.3, cosine-distributed directions on both sides. Millions per second:\n",
         super::microbench::LANES
