@@ -28,9 +28,9 @@ use ggx_core::{
 };
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
-use support::albedo::{dir64, dot, normalize};
-use support::chi2::{Chi2Config, chi2_survival, chi2_test, integrate_cells, sidak_significance};
-use util::{Uniforms, wo_at};
+use support::albedo::{AlbedoChecks, dir64, dot, mean_and_error, normalize};
+use support::chi2::{Chi2Config, chi2_test, integrate_cells, sidak_significance};
+use util::{Uniforms, edge, random_metal_rough, wo_at};
 
 // ---------------------------------------------------------------------------------------------
 // The extension in f64
@@ -178,19 +178,10 @@ fn albedo_quadrature(p: &Params, inc_deg: f64) -> ([f64; 3], [f64; 3]) {
 /// Mean and standard error of the sample weights (per channel, `None` as 0) over `n` draws.
 fn albedo_monte_carlo(brdf: &GltfClearcoat, wo: Vec3, sampling: Sampling, n: usize, seed: u64) -> [(f64, f64); 3] {
     let mut u = Uniforms::new(seed);
-    let (mut sum, mut sum2) = ([0.0f64; 3], [0.0f64; 3]);
-    for _ in 0..n {
+    mean_and_error(n, || {
         let uv = u.next();
         let u_lobe = u.next().x;
-        let w = brdf.sample(wo, uv, u_lobe, sampling).map_or(Vec3::ZERO, |s| s.weight);
-        for k in 0..3 {
-            sum[k] += w[k] as f64;
-            sum2[k] += (w[k] as f64).powi(2);
-        }
-    }
-    std::array::from_fn(|k| {
-        let mean = sum[k] / n as f64;
-        (mean, ((sum2[k] / n as f64 - mean * mean).max(0.0) / n as f64).sqrt())
+        brdf.sample(wo, uv, u_lobe, sampling).map_or(Vec3::ZERO, |s| s.weight)
     })
 }
 
@@ -217,10 +208,7 @@ const MC_ALLOWANCE: f64 = 1e-6 + 3.0 * 10.0 / MC_SAMPLES as f64;
 /// for metal bases and at normal incidence (the coat mixes two lobes of albedo below one there),
 /// with the Sidak threshold over every (material, view, channel, technique).
 fn check_albedos(name: &str, materials: &[Params], samplings: &[Sampling]) {
-    let tests = materials.len() * VIEWS_DEG.len() * 3 * samplings.len();
-    let significance = sidak_significance(0.01, tests);
-    let (mut worst_f32, mut worst_z, mut max_albedo) = (0.0f64, 0.0f64, 0.0f64);
-    let mut failures = Vec::new();
+    let mut checks = AlbedoChecks::new(name, materials.len() * VIEWS_DEG.len() * 3 * samplings.len());
     for (i, p) in materials.iter().enumerate() {
         let brdf = p.brdf();
         for (j, inc) in VIEWS_DEG.into_iter().enumerate() {
@@ -238,43 +226,17 @@ fn check_albedos(name: &str, materials: &[Params], samplings: &[Sampling]) {
                 a[1],
                 a[2]
             );
-            for k in 0..3 {
-                let d = (a[k] - b[k]).abs();
-                worst_f32 = worst_f32.max(d);
-                max_albedo = max_albedo.max(a[k]);
-                if d > QUADRATURE_F32_TOL {
-                    failures.push(format!("{line}: channel {k} f64 {} vs f32 eval {} (diff {d:.2e})", a[k], b[k]));
-                }
-                if (p.metallic == 1.0 || inc == 0.0) && a[k] > 1.0 + 1e-4 {
-                    failures.push(format!("{line}: channel {k} albedo {} above one", a[k]));
-                }
-            }
+            checks.quadrature(&line, a, b, QUADRATURE_F32_TOL, p.metallic == 1.0 || inc == 0.0);
             for (t, &sampling) in samplings.iter().enumerate() {
                 let seed = ((i * 16 + j) * 8 + t) as u64 ^ 0x636c_6561;
                 let mc = albedo_monte_carlo(&brdf, wo, sampling, MC_SAMPLES, seed);
-                for k in 0..3 {
-                    let (mean, sigma) = mc[k];
-                    let z = ((mean - a[k]).abs() - MC_ALLOWANCE).max(0.0) / sigma;
-                    let z = if z.is_nan() { 0.0 } else { z };
-                    worst_z = worst_z.max(z);
-                    if chi2_survival(z * z, 1.0) < significance {
-                        failures.push(format!(
-                            "{line}: {} channel {k} Monte Carlo {mean} +- {sigma:.2e} vs {} (z = {z:.2})",
-                            sampling.name(),
-                            a[k]
-                        ));
-                    }
-                }
+                checks.monte_carlo(&line, sampling.name(), mc, a, MC_ALLOWANCE);
                 line += &format!("  {}: {:.5}", sampling.name(), mc[0].0);
             }
             println!("{line}");
         }
     }
-    println!(
-        "{name}: {tests} comparisons, worst |f64 - f32| {worst_f32:.2e}, worst z {worst_z:.2}, \
-         largest albedo {max_albedo:.5}"
-    );
-    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    checks.finish();
 }
 
 /// Clearcoat 0, 0.5, 1 over every coat roughness of [`COAT_ROUGHNESS`] (base roughness in turn).
@@ -340,43 +302,11 @@ fn albedo_with_mirror_lobes() {
 // Clearcoat 0 is the base; the coat alone is GgxConductor with F = 1
 // ---------------------------------------------------------------------------------------------
 
-/// A random base: any base colour, metallic and specular weight in [0, 1] with the edges 0 and
-/// 1 over-represented, roughness from mirror to 1 (anisotropic half of the time), ior in [1, 3]
-/// or 0, specular colour up to 2 (tests/metal_rough.rs `random_material`).
-fn random_base(u: &mut Uniforms) -> GltfMetalRough {
-    let mut x = || u.next().x;
-    let edge = |v: f32| {
-        if v < 0.15 {
-            0.0
-        } else if v > 0.85 {
-            1.0
-        } else {
-            (v - 0.15) / 0.7
-        }
-    };
-    let base = Vec3::new(edge(x()), x(), x());
-    let metallic = edge(x());
-    let sw = edge(x());
-    let r = edge(x());
-    let (ax, ay) = if x() < 0.5 { (r * r, r * r) } else { (r * r, x() * x()) };
-    let ior = if x() < 0.1 { 0.0 } else { 1.0 + 2.0 * x() };
-    GltfMetalRough::new(base, metallic, ax, ay, ior, Vec3::new(2.0 * x(), 2.0 * x(), x()), sw)
-}
-
-/// A random clearcoat over [`random_base`]: weight and coat roughness in [0, 1] with the edges
-/// (no coat, full coat, mirror coat) over-represented.
+/// A random clearcoat over a [`random_metal_rough`] base: weight and coat roughness in [0, 1]
+/// with the edges (no coat, full coat, mirror coat) over-represented.
 fn random_clearcoat(u: &mut Uniforms) -> GltfClearcoat {
-    let base = random_base(u);
+    let base = random_metal_rough(u);
     let mut x = || u.next().x;
-    let edge = |v: f32| {
-        if v < 0.15 {
-            0.0
-        } else if v > 0.85 {
-            1.0
-        } else {
-            (v - 0.15) / 0.7
-        }
-    };
     let (weight, r) = (edge(x()), edge(x()));
     GltfClearcoat::new(base, weight, r * r)
 }
@@ -406,7 +336,7 @@ fn clearcoat_zero_is_the_base_bit_for_bit() {
     let weights = [0.0, -0.0, f32::NAN, f32::INFINITY, f32::NEG_INFINITY, -1.0, -1e-30];
     let raw_weights = [f32::NAN, -0.0, -1.0, f32::NEG_INFINITY, -f32::NAN];
     for i in 0..1_000 {
-        let base = random_base(&mut u);
+        let base = random_metal_rough(&mut u);
         let alpha = [0.0, 1e-4, 0.05, 0.3, 1.0, f32::NAN][i % 6];
         let mut coat = GltfClearcoat::new(base, weights[i % weights.len()], alpha);
         if i % 3 == 0 {

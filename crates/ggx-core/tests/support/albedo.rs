@@ -67,3 +67,87 @@ pub fn albedo_quadrature(
     }
     (a, b)
 }
+
+/// Mean and standard error of each channel of `n` sample weights drawn by `draw` (a Monte
+/// Carlo estimate of the directional albedo).
+pub fn mean_and_error(n: usize, mut draw: impl FnMut() -> Vec3) -> [(f64, f64); 3] {
+    let (mut sum, mut sum2) = ([0.0f64; 3], [0.0f64; 3]);
+    for _ in 0..n {
+        let w = draw();
+        for k in 0..3 {
+            sum[k] += w[k] as f64;
+            sum2[k] += (w[k] as f64).powi(2);
+        }
+    }
+    std::array::from_fn(|k| {
+        let mean = sum[k] / n as f64;
+        (mean, ((sum2[k] / n as f64 - mean * mean).max(0.0) / n as f64).sqrt())
+    })
+}
+
+/// The albedo checks of a material grid, collected over every (material, view): (a) the f64
+/// quadrature against (b) the f32 `eval` at the same nodes, `E <= 1` where the model conserves
+/// energy, and (c) each technique's Monte Carlo estimate against (a) by a z-test at the Sidak
+/// threshold over `tests` comparisons; [`AlbedoChecks::finish`] prints the worst values and
+/// fails with every failure.
+pub struct AlbedoChecks {
+    name: String,
+    tests: usize,
+    significance: f64,
+    worst_f32: f64,
+    worst_z: f64,
+    max_albedo: f64,
+    failures: Vec<String>,
+}
+
+impl AlbedoChecks {
+    /// Checks named `name` over `tests` Monte Carlo comparisons (materials x views x channels x
+    /// techniques).
+    pub fn new(name: &str, tests: usize) -> Self {
+        let significance = super::chi2::sidak_significance(0.01, tests);
+        let failures = Vec::new();
+        Self { name: name.to_owned(), tests, significance, worst_f32: 0.0, worst_z: 0.0, max_albedo: 0.0, failures }
+    }
+
+    /// (a) `a` against (b) `b` within `tolerance` per channel, and `a <= 1 + 1e-4` when `bounded`;
+    /// `line` names the material and view.
+    pub fn quadrature(&mut self, line: &str, a: [f64; 3], b: [f64; 3], tolerance: f64, bounded: bool) {
+        for k in 0..3 {
+            let d = (a[k] - b[k]).abs();
+            self.worst_f32 = self.worst_f32.max(d);
+            self.max_albedo = self.max_albedo.max(a[k]);
+            if d > tolerance {
+                self.failures.push(format!("{line}: channel {k} f64 {} vs f32 eval {} (diff {d:.2e})", a[k], b[k]));
+            }
+            if bounded && a[k] > 1.0 + 1e-4 {
+                self.failures.push(format!("{line}: channel {k} albedo {} above one", a[k]));
+            }
+        }
+    }
+
+    /// (c) the estimate `mc` of `technique` against `a`, forgiving `allowance` before dividing by
+    /// the standard error.
+    pub fn monte_carlo(&mut self, line: &str, technique: &str, mc: [(f64, f64); 3], a: [f64; 3], allowance: f64) {
+        for k in 0..3 {
+            let (mean, sigma) = mc[k];
+            let z = ((mean - a[k]).abs() - allowance).max(0.0) / sigma;
+            let z = if z.is_nan() { 0.0 } else { z };
+            self.worst_z = self.worst_z.max(z);
+            if super::chi2::chi2_survival(z * z, 1.0) < self.significance {
+                self.failures.push(format!(
+                    "{line}: {technique} channel {k} Monte Carlo {mean} +- {sigma:.2e} vs {} (z = {z:.2})",
+                    a[k]
+                ));
+            }
+        }
+    }
+
+    /// Prints the summary and fails with every failure.
+    pub fn finish(self) {
+        println!(
+            "{}: {} comparisons, worst |f64 - f32| {:.2e}, worst z {:.2}, largest albedo {:.5}",
+            self.name, self.tests, self.worst_f32, self.worst_z, self.max_albedo
+        );
+        assert!(self.failures.is_empty(), "{}", self.failures.join("\n"));
+    }
+}

@@ -2,7 +2,7 @@
 //! directions from angles, an f64 hemisphere quadrature and a small deterministic RNG.
 #![allow(dead_code)]
 
-use ggx_core::{Vec2, Vec3};
+use ggx_core::{GltfMetalRough, Vec2, Vec3};
 use rand_core::{Rng, SeedableRng};
 
 /// Isotropic alphas of the test grid.
@@ -61,4 +61,30 @@ impl Uniforms {
         let mut f = || (self.0.next_u32() >> 8) as f32 * (1.0 / 16_777_216.0);
         Vec2::new(f(), f())
     }
+}
+
+/// `v` in [0, 1) mapped so that the edges are over-represented: below 0.15 -> 0, above 0.85 -> 1,
+/// linear in between.
+pub fn edge(v: f32) -> f32 {
+    if v < 0.15 {
+        0.0
+    } else if v > 0.85 {
+        1.0
+    } else {
+        (v - 0.15) / 0.7
+    }
+}
+
+/// A random glTF metal-rough material: any base colour, metallic and specular weight in [0, 1]
+/// with the edges 0 and 1 over-represented ([`edge`]), roughness from mirror to 1 (anisotropic
+/// half of the time), ior in [1, 3] or 0, specular colour up to 2.
+pub fn random_metal_rough(u: &mut Uniforms) -> GltfMetalRough {
+    let mut x = || u.next().x;
+    let base = Vec3::new(edge(x()), x(), x());
+    let metallic = edge(x());
+    let sw = edge(x());
+    let r = edge(x());
+    let (ax, ay) = if x() < 0.5 { (r * r, r * r) } else { (r * r, x() * x()) };
+    let ior = if x() < 0.1 { 0.0 } else { 1.0 + 2.0 * x() };
+    GltfMetalRough::new(base, metallic, ax, ay, ior, Vec3::new(2.0 * x(), 2.0 * x(), x()), sw)
 }
