@@ -30,6 +30,7 @@ use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
 use support::albedo::{AlbedoChecks, dir64, dot, mean_and_error, normalize};
 use support::chi2::{Chi2Config, chi2_test, integrate_cells, sidak_significance};
+use util::hostile::{any_f32, direction, ok, ok3, vec3};
 use util::{Uniforms, edge, random_metal_rough, wo_at};
 
 // ---------------------------------------------------------------------------------------------
@@ -674,36 +675,6 @@ fn chi2_of_the_mixture_sampler() {
 // Any f32 in
 // ---------------------------------------------------------------------------------------------
 
-fn any_f32() -> impl Strategy<Value = f32> {
-    prop_oneof![
-        3 => proptest::num::f32::ANY,
-        2 => -1.0f32..=1.0,
-        2 => 0.0f32..=3.0,
-        2 => prop::sample::select(vec![
-            0.0, -0.0, 1.0, -1.0, ONE_MINUS_EPSILON, -ONE_MINUS_EPSILON, 1e-45, -1e-45, f32::MIN_POSITIVE,
-            f32::NAN, f32::INFINITY, f32::NEG_INFINITY, f32::MAX, f32::MIN, 1e-7, 1e-20, 0.5, 1e-4, 1e-3,
-            9.99e-4, 1.5, 0.05, 0.95,
-        ]),
-    ]
-}
-
-fn vec3() -> impl Strategy<Value = Vec3> {
-    (any_f32(), any_f32(), any_f32()).prop_map(|(x, y, z)| Vec3::new(x, y, z))
-}
-
-/// A direction: any bits, uniform on the hemisphere, or grazing down to cos 1e-7.
-fn direction() -> impl Strategy<Value = Vec3> {
-    prop_oneof![
-        3 => vec3(),
-        3 => (0.0f32..1.0, 0.0f32..1.0).prop_map(|(a, b)| warp::sample_uniform_hemisphere(Vec2::new(a, b))),
-        2 => (-7.0f32..0.0, 0.0f32..6.3).prop_map(|(e, phi)| {
-            let z = 10f32.powf(e);
-            let r = (1.0 - z * z).sqrt();
-            Vec3::new(r * phi.cos(), r * phi.sin(), z)
-        }),
-    ]
-}
-
 /// Through the constructors from any arguments, or any bits in every field.
 fn material() -> impl Strategy<Value = GltfClearcoat> {
     prop_oneof![
@@ -716,14 +687,6 @@ fn material() -> impl Strategy<Value = GltfClearcoat> {
         ),
         prop::array::uniform16(any_f32()).prop_map(|f| bytemuck::cast::<[u32; 16], GltfClearcoat>(f.map(f32::to_bits))),
     ]
-}
-
-fn ok(x: f32) -> bool {
-    x.is_finite() && x >= 0.0
-}
-
-fn ok3(v: Vec3) -> bool {
-    ok(v.x) && ok(v.y) && ok(v.z)
 }
 
 proptest! {

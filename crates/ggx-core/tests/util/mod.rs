@@ -88,3 +88,54 @@ pub fn random_metal_rough(u: &mut Uniforms) -> GltfMetalRough {
     let ior = if x() < 0.1 { 0.0 } else { 1.0 + 2.0 * x() };
     GltfMetalRough::new(base, metallic, ax, ay, ior, Vec3::new(2.0 * x(), 2.0 * x(), x()), sw)
 }
+
+/// proptest strategies for hostile inputs, shared by the glTF BRDF tests (`metal_rough.rs`,
+/// `clearcoat.rs`).
+pub mod hostile {
+    use ggx_core::math::ONE_MINUS_EPSILON;
+    use ggx_core::{Vec2, Vec3, warp};
+    use proptest::prelude::*;
+
+    /// Any bits, the unit ranges, and the special values (NaN, infinities, zeros, subnormals,
+    /// `1 - ulp`, the delta threshold's neighbours).
+    pub fn any_f32() -> impl Strategy<Value = f32> {
+        prop_oneof![
+            3 => proptest::num::f32::ANY,
+            2 => -1.0f32..=1.0,
+            2 => 0.0f32..=3.0,
+            2 => prop::sample::select(vec![
+                0.0, -0.0, 1.0, -1.0, ONE_MINUS_EPSILON, -ONE_MINUS_EPSILON, 1e-45, -1e-45, f32::MIN_POSITIVE,
+                f32::NAN, f32::INFINITY, f32::NEG_INFINITY, f32::MAX, f32::MIN, 1e-7, 1e-20, 0.5, 1e-4, 1e-3,
+                9.99e-4, 1.5, 0.05, 0.95,
+            ]),
+        ]
+    }
+
+    /// Three [`any_f32`].
+    pub fn vec3() -> impl Strategy<Value = Vec3> {
+        (any_f32(), any_f32(), any_f32()).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+    }
+
+    /// A direction: any bits, uniform on the hemisphere, or grazing down to cos 1e-7.
+    pub fn direction() -> impl Strategy<Value = Vec3> {
+        prop_oneof![
+            3 => vec3(),
+            3 => (0.0f32..1.0, 0.0f32..1.0).prop_map(|(a, b)| warp::sample_uniform_hemisphere(Vec2::new(a, b))),
+            2 => (-7.0f32..0.0, 0.0f32..6.3).prop_map(|(e, phi)| {
+                let z = 10f32.powf(e);
+                let r = (1.0 - z * z).sqrt();
+                Vec3::new(r * phi.cos(), r * phi.sin(), z)
+            }),
+        ]
+    }
+
+    /// Finite and not negative.
+    pub fn ok(x: f32) -> bool {
+        x.is_finite() && x >= 0.0
+    }
+
+    /// [`ok`] in every component.
+    pub fn ok3(v: Vec3) -> bool {
+        ok(v.x) && ok(v.y) && ok(v.z)
+    }
+}
