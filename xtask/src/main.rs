@@ -138,6 +138,7 @@ fn in_process(what: &str, f: impl FnOnce() -> Result<(), String>) -> Result<(), 
 
 fn ci() -> Result<(), String> {
     let start = Instant::now();
+    system::report_disk(&render::workspace_root().join("target"));
     // The GPU tests need a Vulkan adapter: install lavapipe where none is, before anything runs.
     system::ensure_vulkan()?;
     // `xtask-flip` (a workspace member: clippy and the tests build it) is C++ underneath.

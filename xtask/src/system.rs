@@ -104,6 +104,18 @@ fn apt(packages: &[&str], manual: &str, flags: &[&str]) -> Result<(), String> {
     run(&install)
 }
 
+/// Prints the free space of the file system that holds the target directory (`df -h`), so a
+/// CI log that ends in "No space left on device" says how much there was. Informational:
+/// a machine without `df` prints nothing.
+pub fn report_disk(target: &std::path::Path) {
+    let dir = if target.exists() { target } else { target.parent().unwrap_or(target) };
+    if let Ok(out) = Command::new("df").arg("-h").arg(dir).output()
+        && out.status.success()
+    {
+        eprintln!("==> disk space where the build goes ({}):\n{}", dir.display(), String::from_utf8_lossy(&out.stdout));
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
