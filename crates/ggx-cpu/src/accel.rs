@@ -1,5 +1,6 @@
 //! Ray-triangle acceleration: an obvhs BVH (CWBVH or BVH2) over the scene's world-space
-//! triangles, stored in BVH leaf order so a leaf's triangles are contiguous in memory.
+//! triangles, stored in BVH leaf order so a leaf's triangles are contiguous in memory, each
+//! with the edges and normal its ray test needs precomputed ([`RayTriangle`]).
 
 use ggx_scene::Triangle;
 use glam::{Vec3, Vec3A};
@@ -43,7 +44,7 @@ pub struct Hit {
 pub struct Accel {
     tree: Tree,
     /// Triangles in BVH primitive order (duplicates where the builder split triangles).
-    ordered: Vec<BvhTriangle>,
+    ordered: Vec<RayTriangle>,
     /// Maps a BVH primitive index back to the scene triangle index.
     primitive_to_triangle: Vec<u32>,
     build_time: Duration,
@@ -71,7 +72,7 @@ impl Accel {
                 (Tree::Binary(bvh), indices)
             }
         };
-        let ordered = indices.iter().map(|&i| tris.get(i as usize).copied().unwrap_or_default()).collect();
+        let ordered = indices.iter().map(|&i| tris.get(i as usize).map(RayTriangle::new).unwrap_or_default()).collect();
         Accel { tree, ordered, primitive_to_triangle: indices, build_time: start.elapsed() }
     }
 
@@ -109,11 +110,54 @@ impl Accel {
     }
 }
 
+/// A triangle as the ray test reads it: `v0`, the edges `e1 = v0 - v1` and `e2 = v2 - v0`,
+/// and the unnormalized normal `n = e1 x e2`. These are the terms obvhs'
+/// `Triangle::intersect` (and `scene.wgsl`'s `triangle_intersect`) derive on every test;
+/// computed once here, with the same operations, they give the same bits.
+#[derive(Clone, Copy, Default)]
+#[repr(C, align(64))]
+struct RayTriangle {
+    v0: Vec3A,
+    e1: Vec3A,
+    e2: Vec3A,
+    n: Vec3A,
+}
+
+impl RayTriangle {
+    fn new(t: &BvhTriangle) -> RayTriangle {
+        let e1 = t.v0 - t.v1;
+        let e2 = t.v2 - t.v0;
+        RayTriangle { v0: t.v0, e1, e2, n: e1.cross(e2) }
+    }
+
+    /// Möller & Trumbore 1997 in the form of obvhs and `scene.wgsl`: `r = d x (v0 - o)`,
+    /// `u = (r . e2) / (n . d)`, `v = (r . e1) / (n . d)`, hit when `u, v, 1 - u - v` have no
+    /// sign bit set, `t = (n . (v0 - o)) / (n . d)` in `[tmin, tmax]`; `inf` otherwise.
+    #[inline(always)]
+    fn intersect(&self, ray: &Ray) -> f32 {
+        let c = self.v0 - ray.origin;
+        let r = ray.direction.cross(c);
+        let inv_det = 1.0 / self.n.dot(ray.direction);
+        let u = r.dot(self.e2) * inv_det;
+        let v = r.dot(self.e1) * inv_det;
+        let w = 1.0 - u - v;
+        // A sign bit on any of u, v, w (-0.0 included) misses, as in obvhs.
+        let signs = u.to_bits() | v.to_bits() | w.to_bits();
+        if inv_det != 0.0 && signs & 0x8000_0000 == 0 {
+            let t = self.n.dot(c) * inv_det;
+            if t >= ray.tmin && t <= ray.tmax {
+                return t;
+            }
+        }
+        f32::INFINITY
+    }
+}
+
 /// Barycentrics `(b1, b2)` of the ray's intersection with the triangle's plane, Moller &
 /// Trumbore 1997: `b1 = (s . p) / det`, `b2 = (d . q) / det` with `p = d x e2`, `q = s x e1`.
-fn barycentrics(t: &BvhTriangle, origin: Vec3, dir: Vec3) -> (f32, f32) {
-    let (v0, v1, v2) = (Vec3::from(t.v0), Vec3::from(t.v1), Vec3::from(t.v2));
-    let (e1, e2) = (v1 - v0, v2 - v0);
+/// (`v1 - v0` is `-(v0 - v1)` exactly: rounding to nearest is symmetric.)
+fn barycentrics(t: &RayTriangle, origin: Vec3, dir: Vec3) -> (f32, f32) {
+    let (v0, e1, e2) = (Vec3::from(t.v0), -Vec3::from(t.e1), Vec3::from(t.e2));
     let p = dir.cross(e2);
     let det = e1.dot(p);
     if det == 0.0 || !det.is_finite() {
