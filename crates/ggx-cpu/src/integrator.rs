@@ -21,6 +21,7 @@
 use crate::offset::offset_ray_origin;
 use crate::scene_data::SceneData;
 use ggx_core::mis::power_heuristic;
+use ggx_core::sequence::PixelSeeds;
 use ggx_core::{Frame, SampleStream};
 use ggx_render::{
     Bsdf, anisotropy_direction, metal_rough_bsdf, normal_map_at, perturb_normal, tangent_at, tangent_frame,
@@ -58,12 +59,12 @@ struct Draws {
 
 impl BounceSamples {
     #[inline(always)]
-    fn draw(stream: &mut SampleStream, draws: Draws, roulette: bool) -> Self {
-        let bsdf = stream.next_2d();
-        let lobe = if draws.lobe { stream.next_1d() } else { 0.5 };
-        let light = if draws.light { stream.next_2d() } else { Vec2::ZERO };
-        let select = if draws.select { stream.next_1d() } else { 0.0 };
-        let roulette = if roulette { stream.next_1d() } else { 0.5 };
+    fn draw(stream: &mut SampleStream, seeds: &mut PixelSeeds, draws: Draws, roulette: bool) -> Self {
+        let bsdf = stream.next_2d_with(seeds);
+        let lobe = if draws.lobe { stream.next_1d_with(seeds) } else { 0.5 };
+        let light = if draws.light { stream.next_2d_with(seeds) } else { Vec2::ZERO };
+        let select = if draws.select { stream.next_1d_with(seeds) } else { 0.0 };
+        let roulette = if roulette { stream.next_1d_with(seeds) } else { 0.5 };
         BounceSamples { bsdf, lobe, light, select, roulette }
     }
 }
@@ -129,13 +130,15 @@ fn segment_medium(bsdf: &Bsdf, current: Vec3, wi_z: f32) -> Vec3 {
     }
 }
 
-/// Radiance along the camera ray `(origin, dir)`.
+/// Radiance along the camera ray `(origin, dir)`, its random numbers drawn from `stream` with
+/// the pixel's scramble seeds kept in `seeds`.
 #[inline(always)]
 pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELECTRIC: bool, const TEX: bool>(
     scene: &SceneData,
     mut origin: Vec3,
     mut dir: Vec3,
     stream: &mut SampleStream,
+    seeds: &mut PixelSeeds,
     counters: &mut Counters,
 ) -> Vec3 {
     let strategy = scene.light_strategy;
@@ -238,7 +241,7 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
             break;
         }
         let roulette = scene.roulette_depth > 0 && depth + 1 >= scene.roulette_depth;
-        let s = BounceSamples::draw(stream, draws, roulette);
+        let s = BounceSamples::draw(stream, seeds, draws, roulette);
 
         // Shading frame: on the side the ray arrives from for two-sided materials, around the
         // outward normal for a dielectric with an inside (`wo.z < 0` from inside).

@@ -9,6 +9,7 @@
 
 use crate::integrator::{Counters, trace};
 use crate::scene_data::SceneData;
+use ggx_core::sequence::PixelSeeds;
 use ggx_core::{SampleStream, SequenceKind};
 use ggx_film::{Film, SampleSum, Window};
 use ggx_render::{Job, KernelVariant, RenderError, pass_end};
@@ -67,11 +68,21 @@ fn render_tile<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIE
             let pixel = y * width + x;
             let held = work.film.pixels().get(pixel as usize).map_or(0, |p| p.samples);
             let mut sum = SampleSum::default();
+            // Every sample of the pixel shares its scramble seeds: hashed once, here.
+            let mut seeds = PixelSeeds::new(SampleStream::new(sampling.kind, sampling.seed, pixel, 0).seed);
             for s in work.start.saturating_add(held)..work.to {
                 let mut stream = SampleStream::new(sampling.kind, sampling.seed, pixel, s);
-                let jitter = stream.next_2d();
+                let jitter = stream.next_2d_with(&mut seeds);
                 let (origin, dir) = scene.ray_generator.generate_ray(Vec2::new(x as f32, y as f32) + jitter);
-                sum.add(trace::<AREA, ENV, PLASTIC, DIELECTRIC, TEX>(scene, origin, dir, &mut stream, &mut counters));
+                let radiance = trace::<AREA, ENV, PLASTIC, DIELECTRIC, TEX>(
+                    scene,
+                    origin,
+                    dir,
+                    &mut stream,
+                    &mut seeds,
+                    &mut counters,
+                );
+                sum.add(radiance);
             }
             out.push(sum);
         }

@@ -171,8 +171,16 @@ pub fn sobol_owen_u32(index: u32, dim: u32, seed: u32) -> u32 {
 // reverse(LK(XOR of R[dim & 3][j] over set bits j of reversed, hash_combine(group_seed, dim & 3))).
 #[inline]
 pub fn sobol_owen_shuffled(reversed: u32, group_seed: u32, dim: u32) -> u32 {
+    sobol_owen_scrambled(reversed, hash_combine(group_seed, dim & 3), dim)
+}
+
+/// [`sobol_owen_shuffled`] with its scramble seed `hash_combine(group_seed, dim & 3)` given,
+/// so a caller that keeps the seeds of a pixel hashes them once.
+// reverse(LK(XOR of R[dim & 3][j] over set bits j of reversed, dim_seed)).
+#[inline]
+pub(crate) fn sobol_owen_scrambled(reversed: u32, dim_seed: u32, dim: u32) -> u32 {
     let point = xor_reversed_directions(dim, reversed);
-    laine_karras(point, hash_combine(group_seed, dim & 3)).reverse_bits()
+    laine_karras(point, dim_seed).reverse_bits()
 }
 
 /// `reverse(owen_scramble(index, group_seed))`: the shuffled index in the bit-reversed form

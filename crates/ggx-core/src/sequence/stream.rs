@@ -4,7 +4,8 @@ use bytemuck::{Pod, Zeroable};
 use glam::Vec2;
 
 use super::hash::{hash_combine, u32_to_unit_f32};
-use super::sobol::{shuffle_index_reversed, sobol_owen_shuffled, sobol_owen_u32};
+use super::seeds::{GroupSeeds, HashedSeeds, ScrambleSeeds};
+use super::sobol::{shuffle_index_reversed, sobol_owen_scrambled};
 
 /// Which sequence a [`SampleStream`] draws from.
 #[repr(u32)]
@@ -61,8 +62,17 @@ impl SampleStream {
     // Independent: h(h(seed, sample), dim); Sobol: sobol_owen_u32(sample, dim, seed) (Burley 2020).
     #[inline]
     pub fn get_u32(&self, dim: u32) -> u32 {
+        self.get_u32_with(&mut HashedSeeds, dim)
+    }
+
+    /// [`Self::get_u32`] with the scramble seeds taken from `seeds`.
+    #[inline]
+    pub fn get_u32_with<S: ScrambleSeeds>(&self, seeds: &mut S, dim: u32) -> u32 {
         if self.kind == SequenceKind::Sobol as u32 {
-            sobol_owen_u32(self.sample_index, dim, self.seed)
+            // sobol_owen_u32(sample_index, dim, seed), its seeds from `seeds`.
+            let group = seeds.group(self.seed, dim >> 2);
+            let reversed = shuffle_index_reversed(self.sample_index, group.seed());
+            sobol_owen_scrambled(reversed, group.dim_seed(dim), dim)
         } else {
             hash_combine(hash_combine(self.seed, self.sample_index), dim)
         }
@@ -72,7 +82,13 @@ impl SampleStream {
     // u = u32_to_unit_f32(get_u32(dimension)); dimension += 1.
     #[inline]
     pub fn next_1d(&mut self) -> f32 {
-        let u = u32_to_unit_f32(self.get_u32(self.dimension));
+        self.next_1d_with(&mut HashedSeeds)
+    }
+
+    /// [`Self::next_1d`] with the scramble seeds taken from `seeds`.
+    #[inline]
+    pub fn next_1d_with<S: ScrambleSeeds>(&mut self, seeds: &mut S) -> f32 {
+        let u = u32_to_unit_f32(self.get_u32_with(seeds, self.dimension));
         self.dimension = self.dimension.wrapping_add(1);
         u
     }
@@ -87,13 +103,23 @@ impl SampleStream {
     // d = 4 ceil(dimension / 4); p = (get(d), get(d + 1)); dimension = d + 2 (Burley 2020 padding; pbrt-v4).
     #[inline]
     pub fn next_2d(&mut self) -> Vec2 {
+        self.next_2d_with(&mut HashedSeeds)
+    }
+
+    /// [`Self::next_2d`] with the scramble seeds taken from `seeds`.
+    #[inline]
+    pub fn next_2d_with<S: ScrambleSeeds>(&mut self, seeds: &mut S) -> Vec2 {
         let d = self.dimension.wrapping_add(3) & !3;
         self.dimension = d.wrapping_add(2);
         let (x, y) = if self.kind == SequenceKind::Sobol as u32 {
             // Same bits as get_u32(d), get_u32(d + 1), with the index shuffled once.
-            let group_seed = hash_combine(self.seed, d >> 2);
-            let reversed = shuffle_index_reversed(self.sample_index, group_seed);
-            (sobol_owen_shuffled(reversed, group_seed, d), sobol_owen_shuffled(reversed, group_seed, d.wrapping_add(1)))
+            let group = seeds.group(self.seed, d >> 2);
+            let reversed = shuffle_index_reversed(self.sample_index, group.seed());
+            let d1 = d.wrapping_add(1);
+            (
+                sobol_owen_scrambled(reversed, group.dim_seed(d), d),
+                sobol_owen_scrambled(reversed, group.dim_seed(d1), d1),
+            )
         } else {
             (self.get_u32(d), self.get_u32(d.wrapping_add(1)))
         };
