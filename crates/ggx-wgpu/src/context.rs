@@ -141,7 +141,7 @@ impl GpuContext {
         if !adapter.get_downlevel_capabilities().flags.contains(wgpu::DownlevelFlags::COMPUTE_SHADERS) {
             return Err(GpuError::NoCompute(adapter.get_info().name));
         }
-        // The path tracer binds 7 storage buffers; WebGPU's default (8) where the adapter has it.
+        // The path tracer binds 8 storage buffers: WebGPU's default (8) where the adapter has it.
         let mut required_limits = wgpu::Limits::downlevel_defaults().using_alignment(adapter.limits());
         required_limits.max_storage_buffers_per_shader_stage = adapter
             .limits()

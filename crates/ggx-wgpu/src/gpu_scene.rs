@@ -41,7 +41,7 @@ pub struct GpuScene {
     pipelines: Mutex<HashMap<KernelVariant, wgpu::ComputePipeline>>,
     /// The bind group over all buffers.
     pub bind_group: wgpu::BindGroup,
-    /// The per-dispatch uniform.
+    /// The per-dispatch [`crate::scene_upload::Params`] (read-only storage).
     pub params: wgpu::Buffer,
     /// Per-pixel `vec4<f32>`: radiance sum, rays (bits).
     pub output: wgpu::Buffer,
@@ -59,16 +59,15 @@ impl GpuScene {
         let output_size = pixels * 16;
         let (nodes, triangles) = (tables.nodes(), tables.triangles());
         let (normals, materials) = (non_empty(&tables.normals), non_empty(&tables.materials));
-        let (emitters, table) = (non_empty(&tables.emitters), non_empty(&tables.table));
+        let table = non_empty(&tables.table);
         let surface = non_empty(&tables.surface);
         let sizes = [
             ("BVH nodes", size_of_val(nodes.as_slice()) as u64),
             ("triangles", size_of_val(triangles.as_slice()) as u64),
             ("shading normals", size_of_val(normals.as_slice()) as u64),
             ("materials", size_of_val(materials.as_slice()) as u64),
-            ("emitters", size_of_val(emitters.as_slice()) as u64),
             ("light and environment tables", size_of_val(table.as_slice()) as u64),
-            ("textures, texture coordinates and punctual lights", size_of_val(surface.as_slice()) as u64),
+            ("emitters, textures, texture coordinates and punctual lights", size_of_val(surface.as_slice()) as u64),
             ("image", output_size),
         ];
         check_buffer_sizes(ctx, &sizes)?;
@@ -76,7 +75,7 @@ impl GpuScene {
         if surface.len() as u64 > u64::from(u32::MAX) {
             let bytes = size_of_val(surface.as_slice()) as u64;
             return Err(GpuError::TooLarge {
-                what: "textures, texture coordinates and punctual lights",
+                what: "emitters, textures, texture coordinates and punctual lights",
                 bytes,
                 limit: 4 * u64::from(u32::MAX),
             });
@@ -97,15 +96,14 @@ impl GpuScene {
             let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some("ggx path tracer"),
                 entries: &[
-                    entry(0, wgpu::BufferBindingType::Uniform),
+                    storage(0),
                     storage(1),
                     storage(2),
                     storage(3),
                     storage(4),
                     storage(5),
-                    storage(6),
-                    entry(7, wgpu::BufferBindingType::Storage { read_only: false }),
-                    storage(8),
+                    entry(6, wgpu::BufferBindingType::Storage { read_only: false }),
+                    storage(7),
                 ],
             });
             let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -124,13 +122,12 @@ impl GpuScene {
             let triangles = init("triangles", bytemuck::cast_slice(&triangles));
             let normals = init("shading normals", bytemuck::cast_slice(&normals));
             let materials = init("materials", bytemuck::cast_slice(&materials));
-            let emitters = init("emitters", bytemuck::cast_slice(&emitters));
             let table = init("tables", bytemuck::cast_slice(&table));
             let surface = init("surface", bytemuck::cast_slice(&surface));
             let params = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("params"),
                 size: size_of::<Params>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             });
             let buffer = |label, usage| {
@@ -143,7 +140,7 @@ impl GpuScene {
             };
             let output = buffer("radiance sums", wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC);
             let readback = buffer("radiance readback", wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);
-            let buffers = [&params, &nodes, &triangles, &normals, &materials, &emitters, &table, &output, &surface];
+            let buffers = [&params, &nodes, &triangles, &normals, &materials, &table, &output, &surface];
             let entries: Vec<wgpu::BindGroupEntry> = buffers
                 .iter()
                 .enumerate()

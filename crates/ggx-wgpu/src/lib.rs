@@ -206,7 +206,7 @@ mod tests {
             texture_words,
             punctual_lights,
             punctual_count,
-            pad1,
+            emitters,
             pad2,
             pad3
         );

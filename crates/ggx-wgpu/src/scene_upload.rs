@@ -1,15 +1,16 @@
 //! The scene as the flat, `bytemuck::Pod` tables `path_tracer.wgsl` reads: BVH nodes and
-//! leaf-order triangles, shading normals, materials (ggx-render's precomputed [`Bsdf`]s), emitters,
-//! one `f32` table for the light and environment CDFs and texels, one `u32` table for what
-//! textured materials read at a hit ([`SceneTables::surface`]), and the [`Params`] uniform.
+//! leaf-order triangles, shading normals, materials (ggx-render's precomputed [`Bsdf`]s), one `f32`
+//! table for the light and environment CDFs and texels, one `u32` table for emitters, lights and
+//! what textured materials read at a hit ([`SceneTables::surface`]), and the [`Params`].
 //!
-//! The `surface` table (binding 8, WGSL `surface: array<u32>`, `f32` read with `bitcast`) holds
-//! the sections below, each only when the scene has what it holds (a scene with neither textured
-//! materials nor punctual lights uploads one zero word):
+//! The `surface` table (binding 7, WGSL `surface: array<u32>`, `f32` read with `bitcast`) holds
+//! the sections below, each only when the scene has what it holds (a scene with no emitter, no
+//! textured material and no punctual light uploads one zero word):
 //!
 //! | section | offset | words |
 //! |---|---|---|
 //! | [`MetalRoughRecord`]s of the textured materials | [`MaterialRecord::surface`] | 60 each |
+//! | [`Emitter`]s (triangle as a leaf index, light, area, pmf) | [`Params::emitters`] | 4 x [`Params::emitter_count`] |
 //! | [`PunctualLight`]s (`KHR_lights_punctual`), in the scene's order | [`Params::punctual_lights`] | 16 x [`Params::punctual_count`] |
 //! | [`TriangleUvs`], parallel to the shading normals | [`Params::uvs`] | 8 x [`Params::uv_count`] |
 //! | [`TriangleTangents`], parallel to the shading normals | [`Params::tangents`] | 12 x [`Params::tangent_count`] |
@@ -220,7 +221,10 @@ pub fn push_textures(surface: &mut Vec<u32>, textures: &TextureSet, params: &mut
     params.texture_words = push_words(surface, &textures.words);
 }
 
-/// Per-dispatch uniform (WGSL `Params`), 256 bytes.
+/// What the kernel reads of the render and of one dispatch (WGSL `Params`), 256 bytes. A
+/// read-only storage buffer, not a uniform one: lavapipe re-specializes a kernel on the values of
+/// a uniform that steers control flow ([`Params::y0`], [`Params::s0`]...) at every dispatch, which
+/// cost 2 s per pass of the path tracer (97.9 s for 48 passes of 20x20 pixels; 0.6 s from storage).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct Params {
@@ -315,8 +319,9 @@ pub struct Params {
     pub punctual_lights: u32,
     /// Number of punctual lights (0: none).
     pub punctual_count: u32,
+    /// Offset (words) of the emitters in [`SceneTables::surface`] (0: none).
+    pub emitters: u32,
     /// Padding (scalars: a uniform array's stride would be 16 bytes).
-    pub pad1: u32,
     /// Padding.
     pub pad2: u32,
     /// Padding.
@@ -331,14 +336,13 @@ pub struct SceneTables {
     pub normals: Vec<ShadingNormals>,
     /// One record per scene material.
     pub materials: Vec<MaterialRecord>,
-    /// Emitters, `triangle` pointing into the leaf-order triangles.
-    pub emitters: Vec<Emitter>,
     /// Light CDF, environment tables and texels.
     pub table: Vec<f32>,
-    /// Textured materials, punctual lights, texture coordinates, tangents and textures (see the
-    /// module docs); empty when no material is textured and there is no punctual light.
+    /// Emitters (`triangle` pointing into the leaf-order triangles), textured materials, punctual
+    /// lights, texture coordinates, tangents and textures (see the module docs); empty when the
+    /// scene has none of them.
     pub surface: Vec<u32>,
-    /// The uniform, `y0`, `rows`, `s0`, `s1` left zero.
+    /// The parameters, `y0`, `rows`, `s0`, `s1` left zero.
     pub params: Params,
 }
 
@@ -363,7 +367,7 @@ impl SceneTables {
                 *slot = leaf as u32;
             }
         }
-        let emitters = scene
+        let emitters: Vec<Emitter> = scene
             .lights
             .emitters
             .iter()
@@ -401,6 +405,9 @@ impl SceneTables {
             env_to_world: [0.0, 0.0, 0.0, 1.0],
             ..Params::zeroed()
         };
+        if !emitters.is_empty() {
+            params.emitters = push_words(&mut surface, bytemuck::cast_slice(&emitters));
+        }
         let mut table = Vec::new();
         params.light_cdf = push(&mut table, &scene.lights.distribution.cdf);
         match &scene.environment {
@@ -437,7 +444,7 @@ impl SceneTables {
             params.tangent_count = count(&mesh.tangents);
             push_textures(&mut surface, &scene.textures, &mut params);
         }
-        SceneTables { bvh, normals: scene.mesh.shading_normals.clone(), materials, emitters, table, surface, params }
+        SceneTables { bvh, normals: scene.mesh.shading_normals.clone(), materials, table, surface, params }
     }
 
     /// The nodes, never empty: an empty scene gets [`EMPTY_TREE`], which the traversal
@@ -531,6 +538,32 @@ mod tests {
         assert_eq!(lit.surface.get(o..o + 32), Some(bytemuck::cast_slice::<_, u32>(&scene.punctual_lights)));
         assert_eq!(lit.surface.len(), 32, "no texture sections without a textured material");
         assert_eq!(Params { punctual_lights: 0, punctual_count: 0, ..lit.params }, plain.params);
-        assert_eq!((&lit.materials, &lit.table, &lit.emitters), (&plain.materials, &plain.table, &plain.emitters));
+        assert_eq!((&lit.materials, &lit.table), (&plain.materials, &plain.table));
+    }
+
+    /// Emitters are a section of `surface`: per emitter its triangle's leaf index (the triangle
+    /// the BVH leaf order put there), its light, area and pmf, word for word.
+    #[test]
+    fn emitters_are_uploaded_in_surface_with_leaf_indices() {
+        let text = "[camera]\nposition = [0, 0, 3]\nlook_at = [0, 0, 0]\nresolution = [8, 8]\n\
+                    [materials.m]\ntype = \"diffuse\"\nalbedo = [0.5, 0.5, 0.5]\n\
+                    [materials.lamp]\ntype = \"emissive\"\nradiance = [4, 4, 4]\n\
+                    [[shapes]]\ntype = \"sphere\"\nmaterial = \"m\"\ncenter = [0, 0, 0]\nradius = 1\n\
+                    [[shapes]]\ntype = \"sphere\"\nmaterial = \"lamp\"\ncenter = [0, 3, 0]\nradius = 0.5\n";
+        let scene = ggx_scene::parse_scene(text, "s.toml", Path::new(".")).expect("scene");
+        let emitters = &scene.lights.emitters;
+        assert!(emitters.len() > 8, "a meshed sphere of emitters");
+        let tables = SceneTables::new(&scene);
+        assert_eq!(tables.params.emitter_count as usize, emitters.len());
+        let o = tables.params.emitters as usize;
+        let words = tables.surface.get(o..o + 4 * emitters.len()).expect("the emitter section");
+        let leaves = &tables.bvh.primitive_to_triangle;
+        for (e, (w, emitter)) in words.chunks_exact(4).zip(emitters).enumerate() {
+            assert_eq!(leaves.get(w[0] as usize), Some(&emitter.triangle), "emitter {e}: its triangle's leaf");
+            let rest = [emitter.light, emitter.area.to_bits(), emitter.pmf.to_bits()];
+            assert_eq!(w[1..], rest, "emitter {e}");
+        }
+        // The emitters are the only section: no texture or punctual-light words follow.
+        assert_eq!(tables.surface.len(), o + 4 * emitters.len());
     }
 }

@@ -627,7 +627,7 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
             } else if AREA && pick_area {
                 let u_emitter = select(s.pick, s.pick / p_area, p_area < 1.0);
                 let e = sample_emitter(u_emitter);
-                let light_tri = triangles[emitters[e].triangle];
+                let light_tri = triangles[load_emitter(e).triangle];
                 let pl = sample_triangle(light_tri, s.light);
                 // The sampled point's barycentrics (sample_triangle's weights of v1, v2).
                 let su = sqrt(max_num(s.light.x, 0.0));

@@ -67,7 +67,7 @@ struct Params {
     texture_words: u32,
     punctual_lights: u32,
     punctual_count: u32,
-    pad1: u32,
+    emitters: u32,
     pad2: u32,
     pad3: u32,
 }
@@ -153,16 +153,18 @@ struct Ray {
     tmax: f32,
 }
 
-@group(0) @binding(0) var<uniform> params: Params;
+// Read-only storage, not uniform: lavapipe re-specializes a kernel on every new value of a uniform that
+// steers control flow (y0, s0...), which cost 2 s per dispatch.
+@group(0) @binding(0) var<storage, read> params: Params;
 @group(0) @binding(1) var<storage, read> nodes: array<BvhNode>;
 @group(0) @binding(2) var<storage, read> triangles: array<Triangle>;
 @group(0) @binding(3) var<storage, read> shading_normals: array<ShadingNormals>;
 @group(0) @binding(4) var<storage, read> materials: array<Material>;
-@group(0) @binding(5) var<storage, read> emitters: array<Emitter>;
-@group(0) @binding(6) var<storage, read> table: array<f32>;
-@group(0) @binding(7) var<storage, read_write> output: array<vec4<f32>>;
-// Textured materials, punctual lights, texture coordinates, tangents, textures (scene_upload.rs `SceneTables::surface`).
-@group(0) @binding(8) var<storage, read> surface: array<u32>;
+@group(0) @binding(5) var<storage, read> table: array<f32>;
+@group(0) @binding(6) var<storage, read_write> output: array<vec4<f32>>;
+// Emitters, textured materials, punctual lights, texture coordinates, tangents, textures (scene_upload.rs
+// `SceneTables::surface`).
+@group(0) @binding(7) var<storage, read> surface: array<u32>;
 
 // energy.wgsl's table accessor: ggx-core's energy tables, appended to `table` at params.energy_tables.
 fn energy_table(i: u32) -> f32 {
@@ -364,9 +366,15 @@ fn sample_emitter(u: f32) -> u32 {
     return invert_cdf(params.light_cdf, params.emitter_count + 1u, u).index;
 }
 
+// Emitter e (4 words at params.emitters + 4 e in `surface`).
+fn load_emitter(e: u32) -> Emitter {
+    let o = params.emitters + 4u * e;
+    return Emitter(surface[o], surface[o + 1u], surface_f32(o + 2u), surface_f32(o + 3u));
+}
+
 // AreaLights::pdf_area: pmf / area.
 fn pdf_area(e: u32) -> f32 {
-    let emitter = emitters[e];
+    let emitter = load_emitter(e);
     return emitter.pmf / emitter.area;
 }
 
