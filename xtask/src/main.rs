@@ -6,7 +6,8 @@
 //!   `-D warnings`, the `no_std` build proof, the whole test suite under `CI=true` (GPU tests
 //!   fail without an adapter), then `stress --quick`, `diff --quick`, `bench --quick`, the
 //!   Slurm scenario of `farm --scenario` (with the debug ggx of the test step) and
-//!   `farm --manifests`.
+//!   `farm --manifests`. It runs with `GALLIVM_PERF=nopt` (see [`LAVAPIPE_PASSES`]) unless
+//!   `GALLIVM_PERF` is set.
 //! * `diff [SCENES...]`: every scene rendered on the CPU and wgpu backends with the same seed,
 //!   compared against per-scene tolerances (see [`diff`]).
 //! * `bench`: run time against error, the convergence study (see [`bench`]).
@@ -136,7 +137,32 @@ fn in_process(what: &str, f: impl FnOnce() -> Result<(), String>) -> Result<(), 
     result.map_err(|e| format!("{what}: {e}"))
 }
 
+/// Mesa's switch for lavapipe's LLVM optimisation passes, and the value `ci` gives it: the GPU
+/// tests render a few pixels, and the passes made up most of a kernel's compile (three-spheres'
+/// `area+env+plastic`: 94 s with them, 17 s without, on a 2-vCPU EPYC; same parity figures).
+const LAVAPIPE_PASSES: (&str, &str) = ("GALLIVM_PERF", "nopt");
+
+/// `ci` run again as a child with [`LAVAPIPE_PASSES`] set (Mesa reads it once per process, and the
+/// in-process steps need it too); `None` where it is set already, by this or by the user.
+fn ci_with_lavapipe_passes_off() -> Option<Result<(), String>> {
+    let (key, value) = LAVAPIPE_PASSES;
+    if std::env::var_os(key).is_some() {
+        return None;
+    }
+    eprintln!("==> xtask ci with {key}={value} (lavapipe's kernels compiled without LLVM's optimisation passes)");
+    let run = || -> Result<(), String> {
+        let exe = std::env::current_exe().map_err(|e| format!("xtask's own path: {e}"))?;
+        let status =
+            Command::new(&exe).arg("ci").env(key, value).status().map_err(|e| format!("{}: {e}", exe.display()))?;
+        if status.success() { Ok(()) } else { Err(format!("xtask ci ({key}={value}) failed ({status})")) }
+    };
+    Some(run())
+}
+
 fn ci() -> Result<(), String> {
+    if let Some(result) = ci_with_lavapipe_passes_off() {
+        return result;
+    }
     let start = Instant::now();
     system::report_disk(&render::workspace_root().join("target"));
     // The GPU tests need a Vulkan adapter: install lavapipe where none is, before anything runs.
