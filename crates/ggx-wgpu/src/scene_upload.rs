@@ -319,9 +319,9 @@ pub struct Params {
     pub punctual_lights: u32,
     /// Number of punctual lights (0: none).
     pub punctual_count: u32,
-    /// Offset (words) of the emitters in [`SceneTables::surface`] (0: none).
+    /// Offset (words) of the emitters in [`SceneTables::surface`] (read only when
+    /// [`Params::emitter_count`] is not 0).
     pub emitters: u32,
-    /// Padding (scalars: a uniform array's stride would be 16 bytes).
     /// Padding.
     pub pad2: u32,
     /// Padding.

@@ -180,7 +180,7 @@ fn run_on_gpu(ctx: &GpuContext, set: &TextureSet, probes: &[(TextureRef, Vec2)])
     let init = |label, contents: &[u8], usage| {
         device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
     };
-    let params_buffer = init("probe params", bytemuck::bytes_of(&params), wgpu::BufferUsages::UNIFORM);
+    let params_buffer = init("probe params", bytemuck::bytes_of(&params), wgpu::BufferUsages::STORAGE);
     let surface_buffer = init("probe surface", bytemuck::cast_slice(&surface), wgpu::BufferUsages::STORAGE);
     let size = (probes.len() * 32) as u64;
     let output = device.create_buffer(&wgpu::BufferDescriptor {
@@ -200,8 +200,8 @@ fn run_on_gpu(ctx: &GpuContext, set: &TextureSet, probes: &[(TextureRef, Vec2)])
         layout: &pipeline.get_bind_group_layout(0),
         entries: &[
             wgpu::BindGroupEntry { binding: 0, resource: params_buffer.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 7, resource: output.as_entire_binding() },
-            wgpu::BindGroupEntry { binding: 8, resource: surface_buffer.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 6, resource: output.as_entire_binding() },
+            wgpu::BindGroupEntry { binding: 7, resource: surface_buffer.as_entire_binding() },
         ],
     });
     let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("texture probe") });
