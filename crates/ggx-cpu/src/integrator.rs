@@ -183,11 +183,11 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
         }
         let Some(hit) = hit else {
             if has_env && let Some(env) = &scene.environment {
-                let le = env.radiance(dir);
+                let (le, pdf_env) = env.radiance_and_pdf(dir);
                 let w = if !use_nee {
                     1.0
                 } else if use_mis {
-                    power_heuristic(1.0, prev_pdf, 1.0, p_env * env.pdf(dir))
+                    power_heuristic(1.0, prev_pdf, 1.0, p_env * pdf_env)
                 } else if prev_pdf == f32::INFINITY {
                     // NEE alone cannot find a delta direction: the BSDF sample counts in full.
                     1.0

@@ -16,6 +16,8 @@ pub struct Distribution1D {
     pub cdf: Vec<f32>,
     /// `integral = sum(func) / n`, the integral of the step function over `[0, 1)`.
     pub integral: f32,
+    /// Guide table over `cdf` ([`guide_table`]): `n` starting segments, one per `1/n` of `u`.
+    pub guide: Vec<u32>,
 }
 
 impl Distribution1D {
@@ -35,8 +37,9 @@ impl Distribution1D {
             acc += f64::from(f) / n as f64;
             cdf.push(acc);
         }
-        let cdf = cdf.iter().map(|&c| if acc > 0.0 { (c / acc).min(1.0) as f32 } else { 0.0 }).collect();
-        Self { func, cdf, integral: acc as f32 }
+        let cdf: Vec<f32> = cdf.iter().map(|&c| if acc > 0.0 { (c / acc).min(1.0) as f32 } else { 0.0 }).collect();
+        let guide = guide_table(&cdf, n);
+        Self { func, cdf, integral: acc as f32, guide }
     }
 
     /// Number of segments.
@@ -53,14 +56,14 @@ impl Distribution1D {
     /// `u` in `[0, 1)`. Returns `(index, pmf, u remapped to [0, 1) inside the segment)`, or
     /// `None` when empty.
     pub fn sample_discrete(&self, u: f32) -> Option<(usize, f32, f32)> {
-        let (i, du) = invert_cdf(&self.cdf, u)?;
+        let (i, du) = invert_cdf(&self.cdf, &self.guide, u)?;
         Some((i, self.pmf(i), du))
     }
 
     /// Samples `x` in `[0, 1)` with density `pdf(x) = func[i] / integral`, `i = floor(x n)`.
     /// Returns `(x, pdf, i)`, or `None` when empty.
     pub fn sample_continuous(&self, u: f32) -> Option<(f32, f32, usize)> {
-        let (i, du) = invert_cdf(&self.cdf, u)?;
+        let (i, du) = invert_cdf(&self.cdf, &self.guide, u)?;
         let x = ((i as f32 + du) / self.len() as f32).min(ONE_MINUS_EPSILON);
         Some((x, self.func[i] / self.integral, i))
     }
@@ -81,14 +84,48 @@ impl Distribution1D {
 }
 
 /// Segment `i` with `cdf[i] <= u < cdf[i + 1]` (never a zero-width one) and the offset of
-/// `u` inside it in `[0, 1)`; `None` for an empty table.
-fn invert_cdf(cdf: &[f32], u: f32) -> Option<(usize, f32)> {
+/// `u` inside it in `[0, 1)`; `None` for an empty table. `guide` ([`guide_table`]) gives the
+/// search its starting segment; any guide (even an empty or wrong one) gives the same segment
+/// as a binary search over `cdf`, which is what the GPU kernel runs.
+fn invert_cdf(cdf: &[f32], guide: &[u32], u: f32) -> Option<(usize, f32)> {
     let n = cdf.len().checked_sub(1).filter(|&n| n > 0)?;
     let u = if u.is_nan() { 0.0 } else { u.clamp(0.0, ONE_MINUS_EPSILON) };
-    let i = cdf.partition_point(|&c| c <= u).saturating_sub(1).min(n - 1);
+    let i = find_segment(cdf, guide, n, u);
     let width = cdf[i + 1] - cdf[i];
     let du = if width > 0.0 { ((u - cdf[i]) / width).clamp(0.0, ONE_MINUS_EPSILON) } else { 0.5 };
     Some((i, du))
+}
+
+/// The last segment `i < n` with `cdf[i] <= u` for `u` in `[0, 1)`, which is
+/// `cdf.partition_point(|c| c <= u) - 1` capped at `n - 1` (cdf non-decreasing from 0). Starts
+/// at `guide[floor(u K)]` and walks down, then up, to it: with [`guide_table`]'s `K = n`
+/// entries the walk takes about one step on average (the cutpoint method, Chen & Asau 1974;
+/// Devroye 1986, 3.2.4) where the binary search takes `log2 n` dependent loads.
+fn find_segment(cdf: &[f32], guide: &[u32], n: usize, u: f32) -> usize {
+    let k = ((u * guide.len() as f32) as usize).min(guide.len().saturating_sub(1));
+    let mut i = guide.get(k).map_or(0, |&g| (g as usize).min(n - 1));
+    while i > 0 && cdf[i] > u {
+        i -= 1;
+    }
+    while i + 1 < n && cdf[i + 1] <= u {
+        i += 1;
+    }
+    i
+}
+
+/// Guide table of `buckets` entries over a CDF of `n + 1` values: entry `k` is the segment
+/// that [`find_segment`] returns at `u = k / buckets` (by binary search).
+pub fn guide_table(cdf: &[f32], buckets: usize) -> Vec<u32> {
+    let n = cdf.len().saturating_sub(1);
+    if n == 0 {
+        return Vec::new();
+    }
+    (0..buckets)
+        .map(|k| {
+            let u = k as f32 / buckets as f32;
+            cdf.partition_point(|&c| c <= u).saturating_sub(1).min(n - 1) as u32
+        })
+        .collect()
 }
 
 /// A piecewise-constant density on `[0, 1)^2` over a `width x height` grid: the marginal
@@ -103,6 +140,8 @@ pub struct Distribution2D {
     pub func: Vec<f32>,
     /// Row-major conditional CDFs, `(width + 1)` values per row.
     pub conditional_cdf: Vec<f32>,
+    /// Row-major guide tables over the conditional CDFs ([`guide_table`]), `width` per row.
+    pub conditional_guide: Vec<u32>,
     /// Distribution over rows; `marginal.func[r]` is row `r`'s integral and
     /// `marginal.integral` the integral over the whole square.
     pub marginal: Distribution1D,
@@ -121,14 +160,16 @@ impl Distribution2D {
             func.fill(1.0);
         }
         let mut conditional_cdf = Vec::with_capacity(h * (w + 1));
+        let mut conditional_guide = Vec::with_capacity(h * w);
         let mut row_integrals = Vec::with_capacity(h);
         for row in func.chunks_exact(w) {
             let d = Distribution1D::new(row);
             conditional_cdf.extend_from_slice(&d.cdf);
+            conditional_guide.extend_from_slice(&d.guide);
             row_integrals.push(if row.iter().any(|&x| x > 0.0) { d.integral } else { 0.0 });
         }
         let marginal = Distribution1D::new(&row_integrals);
-        Some(Self { width, height, func, conditional_cdf, marginal })
+        Some(Self { width, height, func, conditional_cdf, conditional_guide, marginal })
     }
 
     /// Samples a point with density [`Self::pdf`]: `u.y` picks the row, `u.x` the column.
@@ -137,7 +178,8 @@ impl Distribution2D {
         let w = self.width as usize;
         let Some((y, _, row)) = self.marginal.sample_continuous(u.y) else { return (Vec2::ZERO, 0.0, [0, 0]) };
         let cdf = &self.conditional_cdf[row * (w + 1)..(row + 1) * (w + 1)];
-        let Some((col, du)) = invert_cdf(cdf, u.x) else { return (Vec2::ZERO, 0.0, [0, 0]) };
+        let guide = self.conditional_guide.get(row * w..(row + 1) * w).unwrap_or_default();
+        let Some((col, du)) = invert_cdf(cdf, guide, u.x) else { return (Vec2::ZERO, 0.0, [0, 0]) };
         let x = ((col as f32 + du) / w as f32).min(ONE_MINUS_EPSILON);
         (Vec2::new(x, y), self.cell_pdf(col, row), [col as u32, row as u32])
     }
@@ -172,6 +214,45 @@ mod tests {
         assert!((d.pdf(0.1) - 0.75).abs() < 1e-6);
         assert!(Distribution1D::new(&[]).sample_discrete(0.5).is_none());
         assert_eq!(Distribution1D::new(&[0.0, 0.0]).pmf(1), 0.5);
+    }
+
+    /// The segment of a plain binary search, as the GPU kernel finds it.
+    fn binary_search(cdf: &[f32], u: f32) -> usize {
+        let n = cdf.len() - 1;
+        let u = if u.is_nan() { 0.0 } else { u.clamp(0.0, ONE_MINUS_EPSILON) };
+        cdf.partition_point(|&c| c <= u).saturating_sub(1).min(n - 1)
+    }
+
+    /// The guided search returns the binary search's segment for every `u`, whatever the guide
+    /// (the table's, none, or one pointing at the wrong end), over tables with zero-weight
+    /// runs, spikes and one segment, at every bucket edge and its neighbouring floats.
+    #[test]
+    fn guided_search_finds_the_binary_search_segment() {
+        let spike: Vec<f32> = (0..300).map(|i| if i == 123 { 1e6 } else { (i % 7) as f32 }).collect();
+        let tables: [Vec<f32>; 5] =
+            [std::vec![1.0], std::vec![0.0, 0.0, 5.0, 0.0], spike, (0..64).map(|i| (i * i) as f32).collect(), std::vec![
+                1e-30, 1.0, 1e-30, 0.0, 2.0
+            ]];
+        let hostile = [f32::NAN, -1.0, 0.0, 1e-40, 0.5, ONE_MINUS_EPSILON, 1.0, f32::INFINITY];
+        for weights in &tables {
+            let d = Distribution1D::new(weights);
+            let n = d.len();
+            let mut us: Vec<f32> = hostile.to_vec();
+            for k in 0..=n {
+                let edge = k as f32 / n as f32;
+                us.extend([edge, edge.next_down(), edge.next_up()]);
+            }
+            us.extend(d.cdf.iter().flat_map(|&c| [c, c.next_down(), c.next_up()]));
+            us.extend((0..5000).map(|i| (i as f32 * 0.618_034).fract()));
+            let wrong = std::vec![n as u32 - 1; n];
+            for &u in &us {
+                let expected = binary_search(&d.cdf, u);
+                let u = if u.is_nan() { 0.0 } else { u.clamp(0.0, ONE_MINUS_EPSILON) };
+                for guide in [&d.guide[..], &[], &wrong[..], &[0]] {
+                    assert_eq!(find_segment(&d.cdf, guide, n, u), expected, "{weights:?} u {u} guide {guide:?}");
+                }
+            }
+        }
     }
 
     #[test]

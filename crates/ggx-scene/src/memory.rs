@@ -20,8 +20,9 @@ use crate::scene::Scene;
 pub const BYTES_PER_TRIANGLE: u64 = 400;
 
 /// Peak bytes per environment map texel: the 16-byte RGBA `f32` texel, its 4-byte sampling
-/// weight and the 8 bytes of the distribution's cell weight and conditional CDF entry.
-pub const BYTES_PER_TEXEL: u64 = 28;
+/// weight and the 12 bytes of the distribution's cell weight, conditional CDF entry and
+/// guide-table entry.
+pub const BYTES_PER_TEXEL: u64 = 32;
 
 /// Bytes per film pixel: the 64-byte exact sum (three 128-bit sums and two counts), as much
 /// again for the tiles of a pass in flight (or a backend's read-back), the 12-byte mean and
@@ -130,9 +131,9 @@ mod tests {
     fn parts_add_up() {
         let e = MemoryEstimate::new(1000, 10, [4, 2]);
         assert_eq!(e.triangle_bytes, 1000 * BYTES_PER_TRIANGLE);
-        assert_eq!(e.map_bytes, 280);
+        assert_eq!(e.map_bytes, 320);
         assert_eq!((e.film_pixels, e.film_bytes), (8, 8 * FILM_BYTES_PER_PIXEL));
-        assert_eq!(e.total(), e.triangle_bytes + 280 + e.film_bytes);
+        assert_eq!(e.total(), e.triangle_bytes + 320 + e.film_bytes);
         assert!(MemoryEstimate::new(u64::MAX, u64::MAX, [u32::MAX; 2]).total() == u64::MAX);
         assert_eq!(film_bytes(16384, 16384), 52 << 30);
     }

@@ -27,10 +27,14 @@ pub struct EnvMap {
     /// Multiplier applied to every texel.
     pub scale: f32,
     /// Rotation of the map about +y in radians: world direction = `R_y(rotation)` * map
-    /// direction.
+    /// direction. Set by the constructors, which derive the lookups' rotations from it.
     pub rotation: f32,
     /// Sampling distribution over texels, weights `luminance * sin(theta of the row centre)`.
     pub distribution: Distribution2D,
+    /// `R_y(-rotation)`, world to map (the same quaternion every lookup used to rebuild).
+    to_map: Quat,
+    /// `R_y(rotation)`, map to world.
+    to_world: Quat,
 }
 
 /// Why texels and a scale cannot make an [`EnvMap`].
@@ -115,11 +119,13 @@ impl EnvMap {
             })
             .collect();
         let distribution = Distribution2D::new(width, height, &weights).ok_or(TexelError::Size)?;
-        Ok(Self { width, height, texels, scale, rotation: rotation_degrees.to_radians(), distribution })
+        let rotation = rotation_degrees.to_radians();
+        let (to_map, to_world) = (Quat::from_rotation_y(-rotation), Quat::from_rotation_y(rotation));
+        Ok(Self { width, height, texels, scale, rotation, distribution, to_map, to_world })
     }
 
     fn to_map(&self, world: Vec3) -> Vec3 {
-        Quat::from_rotation_y(-self.rotation) * world
+        self.to_map * world
     }
 
     /// Column and row of the texel seen along unit map-space `d`.
@@ -161,15 +167,21 @@ impl EnvMap {
         let (uv, _, [col, row]) = self.distribution.sample(u);
         let d = uv_to_direction(uv);
         let sin_theta = (PI * uv.y).sin();
-        (Quat::from_rotation_y(self.rotation) * d, self.solid_angle_pdf(col as usize, row as usize, sin_theta))
+        (self.to_world * d, self.solid_angle_pdf(col as usize, row as usize, sin_theta))
     }
 
     /// Solid-angle density of [`Self::sample`] producing unit world `direction`.
     pub fn pdf(&self, direction: Vec3) -> f32 {
+        self.radiance_and_pdf(direction).1
+    }
+
+    /// [`Self::radiance`] and [`Self::pdf`] along unit world `direction` (the same values),
+    /// finding the texel once: what a path that escapes to the environment needs.
+    pub fn radiance_and_pdf(&self, direction: Vec3) -> (Vec3, f32) {
         let d = self.to_map(direction);
         let (col, row) = self.cell(d);
         let sin_theta = (1.0 - d.y * d.y).max(0.0).sqrt();
-        self.solid_angle_pdf(col, row, sin_theta)
+        (self.texel(col, row), self.solid_angle_pdf(col, row, sin_theta))
     }
 }
 

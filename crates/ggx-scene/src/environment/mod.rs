@@ -23,6 +23,8 @@ pub use map::EnvMap;
 pub use procedural::{sky, studio};
 
 /// Radiance arriving from infinitely far away.
+// A scene holds one, read on every escaped path: unboxed, the map is one pointer closer.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq)]
 pub enum Environment {
     /// The same radiance from every direction.
@@ -54,6 +56,15 @@ impl Environment {
         match self {
             Self::Constant(_) => 0.25 * FRAC_1_PI,
             Self::Map(m) => m.pdf(direction),
+        }
+    }
+
+    /// [`Self::radiance`] and [`Self::pdf`] along unit `direction` (the same values), with one
+    /// texel lookup for a map.
+    pub fn radiance_and_pdf(&self, direction: Vec3) -> (Vec3, f32) {
+        match self {
+            Self::Constant(l) => (*l, 0.25 * FRAC_1_PI),
+            Self::Map(m) => m.radiance_and_pdf(direction),
         }
     }
 }
