@@ -67,6 +67,7 @@ pub mod energy_dielectric_tables;
 pub mod energy_tables;
 mod frame;
 pub mod fresnel;
+pub mod lanes;
 pub mod math;
 pub mod metal_rough;
 pub mod mis;

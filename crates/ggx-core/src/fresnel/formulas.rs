@@ -1,8 +1,9 @@
 //! The scalar Fresnel formulas.
 
 use super::complex::Complex;
+use crate::lanes::Lanes;
 use crate::math::{finite_or_zero, safe_sqrt};
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 
 /// Schlick 1994 with Burley's `f90`: `F = f0 + (f90 - f0) (1 - cos)^5`, cos clamped to `[0, 1]`.
 #[inline]
@@ -45,14 +46,27 @@ pub fn fresnel_dielectric(cos_theta_i: f32, eta: f32) -> f32 {
 /// to `[0, 1]`. Returns 1 where the result is undefined (NaN parameters).
 #[inline]
 pub fn fresnel_complex(cos_theta_i: f32, eta: f32, k: f32) -> f32 {
-    let cos_i = cos_theta_i.max(0.0).min(1.0);
+    fresnel_complex_lanes(cos_theta_i.max(0.0).min(1.0), eta, k)
+}
+
+/// [`fresnel_complex`] of the three channels of `eta + i k` at once, each lane bit for bit the
+/// scalar function's value.
+#[inline]
+pub(crate) fn fresnel_complex_rgb(cos_theta_i: f32, eta: Vec3, k: Vec3) -> Vec3 {
+    let c = Vec3A::splat(cos_theta_i.max(0.0).min(1.0));
+    Vec3::from(fresnel_complex_lanes(c, Vec3A::from(eta), Vec3A::from(k)))
+}
+
+/// The body of [`fresnel_complex`] over any [`Lanes`], `cos_i` already clamped to `[0, 1]`.
+#[inline(always)]
+fn fresnel_complex_lanes<L: Lanes>(cos_i: L, eta: L, k: L) -> L {
     let eta = Complex::new(eta, k);
-    let sin2_i = 1.0 - cos_i * cos_i;
+    let sin2_i = L::splat(1.0) - cos_i * cos_i;
     let sin2_t = Complex::real(sin2_i).div(eta.mul(eta));
-    let cos_t = Complex::real(1.0).sub(sin2_t).sqrt();
+    let cos_t = Complex::real(L::splat(1.0)).sub(sin2_t).sqrt();
     let ci = Complex::real(cos_i);
     let r_par = eta.mul(ci).sub(cos_t).div(eta.mul(ci).add(cos_t));
     let r_perp = ci.sub(eta.mul(cos_t)).div(ci.add(eta.mul(cos_t)));
-    let f = 0.5 * (r_par.norm() + r_perp.norm());
-    if f.is_nan() { 1.0 } else { f }
+    let f = L::splat(0.5) * (r_par.norm() + r_perp.norm());
+    L::select(f.is_nan(), L::splat(1.0), f)
 }

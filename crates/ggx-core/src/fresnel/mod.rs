@@ -120,14 +120,7 @@ impl FresnelParams {
     pub(crate) fn eval_as(&self, kind: u32, cos_theta: f32) -> Vec3 {
         let f = match kind {
             kind::SCHLICK => fresnel_schlick(cos_theta, v3(self.a), v3(self.b)),
-            kind::CONDUCTOR => {
-                let (eta, k) = (self.a, self.b);
-                Vec3::new(
-                    fresnel_complex(cos_theta, eta[0], k[0]),
-                    fresnel_complex(cos_theta, eta[1], k[1]),
-                    fresnel_complex(cos_theta, eta[2], k[2]),
-                )
-            }
+            kind::CONDUCTOR => formulas::fresnel_complex_rgb(cos_theta, v3(self.a), v3(self.b)),
             kind::DIELECTRIC => Vec3::splat(fresnel_dielectric(cos_theta, self.eta)),
             _ => Vec3::ONE,
         };

@@ -96,3 +96,60 @@ fn params_round_trip_and_evaluate_like_the_enum() {
     let nan = FresnelParams::from(Fresnel::Conductor { eta: Vec3::NAN, k: Vec3::NAN });
     assert!(nan.eval(0.5).is_finite());
 }
+
+/// The conductor kind evaluates the three channels as `Vec3A` lanes: each lane is the scalar
+/// `fresnel_complex` bit for bit, over metals, dielectric-like and hostile parameters.
+#[test]
+fn conductor_rgb_lanes_are_the_scalar_function_bit_for_bit() {
+    let odd = [0.0f32, -0.0, 1e-40, -1e-40, 1e-20, 0.5, 1.0, -2.0, 3e38, f32::INFINITY, -f32::INFINITY, f32::NAN];
+    let mut cosines: std::vec::Vec<f32> = (0..=64).map(|i| i as f32 / 64.0).collect();
+    cosines.extend(odd);
+    let metals = [(0.143f32, 3.983f32), (0.2, 3.9), (1.1, 2.6), (2.5, 0.1), (0.2, 0.0), (1.0, 0.0)];
+    let mut params: std::vec::Vec<(f32, f32)> = metals.to_vec();
+    params.extend(odd.iter().flat_map(|&x| [(x, 1.0), (1.0, x), (x, x)]));
+    for chunk in params.chunks(3) {
+        let at = |i: usize| chunk.get(i).copied().unwrap_or((1.5, 0.0));
+        let eta = Vec3::new(at(0).0, at(1).0, at(2).0);
+        let k = Vec3::new(at(0).1, at(1).1, at(2).1);
+        for &c in &cosines {
+            let lanes = formulas::fresnel_complex_rgb(c, eta, k);
+            for ch in 0..3 {
+                let scalar = fresnel_complex(c, eta[ch], k[ch]);
+                assert_eq!(lanes[ch].to_bits(), scalar.to_bits(), "cos {c} eta {} k {}", eta[ch], k[ch]);
+            }
+        }
+    }
+}
+
+/// Every `Lanes` operation on `Vec3A` is the `f32` operation in each lane, bit for bit.
+#[test]
+fn vec3a_lanes_are_f32_lanes() {
+    use crate::lanes::Lanes;
+    use glam::Vec3A;
+    let values = [0.0f32, -0.0, 1e-40, -1.5, 2.0, 0.25, 3e38, f32::INFINITY, -f32::INFINITY, f32::NAN, -f32::NAN];
+    let bits = |v: Vec3A| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()];
+    for (i, &a0) in values.iter().enumerate() {
+        for &b0 in &values {
+            let (a1, b1) = (values[(i + 3) % values.len()], b0 * 0.5);
+            let (a2, b2) = (b0, a0);
+            let (a, b) = (Vec3A::new(a0, a1, a2), Vec3A::new(b0, b1, b2));
+            let (sa, sb) = ([a0, a1, a2], [b0, b1, b2]);
+            let each = |f: &dyn Fn(f32, f32) -> f32| {
+                [f(sa[0], sb[0]).to_bits(), f(sa[1], sb[1]).to_bits(), f(sa[2], sb[2]).to_bits()]
+            };
+            assert_eq!(bits(Lanes::sqrt(a)), each(&|x, _| Lanes::sqrt(x)));
+            assert_eq!(bits(Lanes::abs(a)), each(&|x, _| Lanes::abs(x)));
+            assert_eq!(bits(Lanes::copysign(a, b)), each(&|x, y| Lanes::copysign(x, y)));
+            assert_eq!(bits(a / b), each(&|x, y| x / y));
+            let select = |m: glam::BVec3A| Vec3A::select(m, Vec3A::ONE, Vec3A::ZERO);
+            let pick = |m: fn(f32, f32) -> bool| each(&|x, y| if m(x, y) { 1.0 } else { 0.0 });
+            assert_eq!(bits(select(Lanes::eq(a, b))), pick(<f32 as Lanes>::eq));
+            assert_eq!(bits(select(Lanes::ge(a, b))), pick(<f32 as Lanes>::ge));
+            assert_eq!(bits(select(Lanes::is_nan(a))), pick(|x, _| Lanes::is_nan(x)));
+            assert_eq!(
+                bits(<Vec3A as Lanes>::select(Lanes::ge(a, b), a, b)),
+                each(&|x, y| Lanes::select(x >= y, x, y))
+            );
+        }
+    }
+}
