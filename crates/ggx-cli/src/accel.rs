@@ -9,6 +9,7 @@ use crate::args::AccelArg;
 /// The renderer's kind for `accel`.
 pub fn kind(accel: AccelArg) -> AccelKind {
     match accel {
+        AccelArg::Wide => AccelKind::Wide,
         AccelArg::Cwbvh => AccelKind::Cwbvh,
         AccelArg::Bvh2 => AccelKind::Bvh2,
     }
@@ -17,6 +18,7 @@ pub fn kind(accel: AccelArg) -> AccelKind {
 /// The `--accel` spelling.
 pub fn name(accel: AccelArg) -> &'static str {
     match accel {
+        AccelArg::Wide => "wide",
         AccelArg::Cwbvh => "cwbvh",
         AccelArg::Bvh2 => "bvh2",
     }

@@ -167,7 +167,7 @@ pub struct RenderArgs {
     pub tonemap: ToneMapArg,
 
     /// Ray-tracing acceleration structure.
-    #[arg(long, value_enum, default_value_t = AccelArg::Cwbvh)]
+    #[arg(long, value_enum, default_value_t = AccelArg::Wide)]
     pub accel: AccelArg,
 
     /// Use the generic kernel instead of the one specialized to the scene's features
@@ -352,6 +352,8 @@ pub enum ToneMapArg {
 /// `--accel`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum AccelArg {
+    /// 8-wide BVH of uncompressed boxes, nearest child first.
+    Wide,
     /// Compressed wide BVH (8-wide).
     Cwbvh,
     /// Binary BVH.
@@ -429,7 +431,7 @@ mod tests {
     fn defaults_and_values() {
         let r = parse(&[]).unwrap();
         assert_eq!((r.spp, r.time, r.threads, r.backend), (None, None, 0, Backend::Cpu));
-        assert_eq!((r.exposure, r.tonemap, r.accel, r.generic), (0.0, ToneMapArg::Aces, AccelArg::Cwbvh, false));
+        assert_eq!((r.exposure, r.tonemap, r.accel, r.generic), (0.0, ToneMapArg::Aces, AccelArg::Wide, false));
         assert_eq!(r.energy_compensation, None);
         assert_eq!(parse(&["--energy-compensation", "off"]).unwrap().energy_compensation, Some(OnOff::Off));
         assert_eq!(parse(&["--energy-compensation", "on"]).unwrap().energy_compensation, Some(OnOff::On));

@@ -1,6 +1,7 @@
-//! Ray-triangle acceleration: an obvhs BVH (CWBVH or BVH2) over the scene's world-space
-//! triangles, stored in BVH leaf order so a leaf's triangles are contiguous in memory, each
-//! with the edges and normal its ray test needs precomputed ([`RayTriangle`]).
+//! Ray-triangle acceleration: a BVH over the scene's world-space triangles (obvhs' binary BVH
+//! collapsed into our 8-wide [`WideBvh`], or obvhs' CWBVH or BVH2 as they are), stored in BVH
+//! leaf order so a leaf's triangles are contiguous in memory, each with the edges and normal
+//! its ray test needs precomputed ([`RayTriangle`]).
 
 use ggx_scene::Triangle;
 use glam::{Vec3, Vec3A};
@@ -11,18 +12,24 @@ use obvhs::ray::{Ray, RayHit};
 use obvhs::triangle::Triangle as BvhTriangle;
 use std::time::{Duration, Instant};
 
-/// Which obvhs BVH layout to trace against.
+use crate::wide_bvh::WideBvh;
+
+/// Which BVH layout to trace against.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum AccelKind {
-    /// Compressed wide BVH (8-wide, Ylitie et al. 2017): the faster one on the scenes we
-    /// measured (see the crate README), hence the default.
+    /// obvhs' binary BVH collapsed into 8-wide nodes of uncompressed boxes, walked nearest
+    /// child first (`WideBvh`): the fastest on the scenes we measured (see the crate README),
+    /// hence the default. A tree too deep for its traversal stack stays binary.
     #[default]
+    Wide,
+    /// obvhs' compressed wide BVH (8-wide, Ylitie et al. 2017).
     Cwbvh,
-    /// Binary BVH.
+    /// obvhs' binary BVH.
     Bvh2,
 }
 
 enum Tree {
+    Wide(WideBvh),
     Cw(CwBvh),
     Binary(Bvh2),
 }
@@ -71,6 +78,14 @@ impl Accel {
                 let indices = bvh.primitive_indices.clone();
                 (Tree::Binary(bvh), indices)
             }
+            AccelKind::Wide => {
+                let bvh = obvhs::bvh2::builder::build_bvh2_from_tris(&tris, params, &mut core);
+                let indices = bvh.primitive_indices.clone();
+                match WideBvh::from_bvh2(&bvh) {
+                    Some(wide) => (Tree::Wide(wide), indices),
+                    None => (Tree::Binary(bvh), indices),
+                }
+            }
         };
         let ordered = indices.iter().map(|&i| tris.get(i as usize).map(RayTriangle::new).unwrap_or_default()).collect();
         Accel { tree, ordered, primitive_to_triangle: indices, build_time: start.elapsed() }
@@ -87,6 +102,18 @@ impl Accel {
         let mut hit = RayHit::none();
         let intersect = |r: &Ray, id: usize| self.ordered.get(id).map_or(f32::INFINITY, |t| t.intersect(r));
         let found = match &self.tree {
+            Tree::Wide(w) => {
+                w.traverse::<true>(&ray, |first, count, t_max| {
+                    for p in first..first.saturating_add(count) {
+                        let t = intersect(&ray, p as usize);
+                        if t < *t_max {
+                            (hit.primitive_id, hit.t, *t_max) = (p, t, t);
+                        }
+                    }
+                    false
+                });
+                hit.t < t_max
+            }
             Tree::Cw(b) => b.ray_traverse(ray, &mut hit, intersect),
             Tree::Binary(b) => b.ray_traverse(ray, &mut hit, intersect),
         };
@@ -104,6 +131,14 @@ impl Accel {
         let ray = Ray::new(origin.into(), dir.into(), 0.0, t_max);
         let intersect = |r: &Ray, id: usize| self.ordered.get(id).map_or(f32::INFINITY, |t| t.intersect(r));
         match &self.tree {
+            Tree::Wide(w) => {
+                let mut miss = true;
+                w.traverse::<false>(&ray, |first, count, t_max| {
+                    miss = !(first..first.saturating_add(count)).any(|p| intersect(&ray, p as usize) < *t_max);
+                    !miss
+                });
+                miss
+            }
             Tree::Cw(b) => b.ray_traverse_miss(ray, intersect),
             Tree::Binary(b) => b.ray_traverse_miss(ray, intersect),
         }

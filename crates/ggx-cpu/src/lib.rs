@@ -23,6 +23,7 @@ mod integrator;
 mod offset;
 pub mod render;
 mod scene_data;
+mod wide_bvh;
 
 pub use accel::{Accel, AccelKind, Hit};
 pub use ggx_render::{

@@ -24,7 +24,7 @@ fn every_shipped_scene_renders() {
         scene.camera.resolution = [24, 16];
         scene.integrator.spp = 2;
         scene.integrator.time_budget = None;
-        for accel in [AccelKind::Cwbvh, AccelKind::Bvh2] {
+        for accel in [AccelKind::Wide, AccelKind::Cwbvh, AccelKind::Bvh2] {
             let r = Renderer::new(&scene, accel).render(&RenderOptions::default(), &RenderControl::default()).unwrap();
             let px = r.film.mean();
             assert_eq!(r.spp, 2);
@@ -261,7 +261,7 @@ fn image_is_bit_identical_for_any_thread_count_and_kernel() {
     let mut scene = ggx_scene::load_scene(&path).unwrap();
     scene.camera.resolution = [40, 24];
     scene.integrator.spp = 6;
-    let renderer = Renderer::new(&scene, AccelKind::Cwbvh);
+    let renderer = Renderer::new(&scene, AccelKind::Wide);
     let image = |threads, specialize| {
         let r = renderer
             .render(&RenderOptions { threads, specialize, ..Default::default() }, &RenderControl::default())
@@ -272,11 +272,12 @@ fn image_is_bit_identical_for_any_thread_count_and_kernel() {
     assert_eq!(one, image(2, true), "1 vs 2 threads");
     assert_eq!(one, image(3, true), "1 vs 3 threads");
     assert_eq!(one, image(2, false), "specialized vs generic kernel");
-    let bvh2 =
-        Renderer::new(&scene, AccelKind::Bvh2).render(&RenderOptions::default(), &RenderControl::default()).unwrap();
-    let diff = mean(&bvh2.film.mean())
-        - mean(&renderer.render(&RenderOptions::default(), &RenderControl::default()).unwrap().film.mean());
-    assert!(diff.abs().max_element() < 1e-3, "BVH2 and CWBVH differ by {diff}");
+    let wide = mean(&renderer.render(&RenderOptions::default(), &RenderControl::default()).unwrap().film.mean());
+    for other in [AccelKind::Cwbvh, AccelKind::Bvh2] {
+        let r = Renderer::new(&scene, other).render(&RenderOptions::default(), &RenderControl::default()).unwrap();
+        let diff = mean(&r.film.mean()) - wide;
+        assert!(diff.abs().max_element() < 1e-3, "{other:?} and the wide BVH differ by {diff}");
+    }
 }
 
 #[test]

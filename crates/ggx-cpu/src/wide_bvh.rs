@@ -1,0 +1,354 @@
+//! [`WideBvh`]: obvhs' binary BVH collapsed into 8-wide nodes for the CPU. Each node keeps its
+//! children's boxes uncompressed, as `f32` structure-of-arrays, so one ray tests all eight in a
+//! loop that LLVM vectorizes (no decoding of quantized boxes, as the CWBVH must do), and the
+//! walk visits the nearer children first (Wald et al. 2008, "Getting rid of packets"; Embree's
+//! BVH8).
+
+use obvhs::bvh2::Bvh2;
+use obvhs::ray::Ray;
+
+/// Children per node.
+const WIDTH: usize = 8;
+
+/// Entries of the traversal stack (on the thread's stack, 1.5 KiB). A node pushes at most
+/// `WIDTH - 1` entries more than it pops, so trees up to [`MAX_DEPTH`] levels fit; a deeper tree
+/// is refused at build time.
+const STACK_SIZE: usize = 192;
+
+/// Deepest tree the stack holds: `(WIDTH - 1) * MAX_DEPTH + 1 <= STACK_SIZE`.
+const MAX_DEPTH: usize = (STACK_SIZE - 1) / (WIDTH - 1);
+
+/// `1 + 2 gamma(3)` (pbrt-v4, 6.8.2): the far distance of a box is scaled by it so that rounding
+/// in the slab test never culls a box that the triangle test would hit (Ize 2013).
+const FAR_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
+
+/// Eight children: boxes as `lo[axis][lane]`, `hi[axis][lane]`; `count[lane] > 0` marks a leaf
+/// of `count` primitives starting at `index[lane]`, `count == 0` an inner node `index[lane]`. An
+/// unused lane has the empty box `lo = +inf, hi = -inf`, which no ray enters.
+#[derive(Clone, Copy)]
+#[repr(C, align(64))]
+struct WideNode {
+    lo: [[f32; WIDTH]; 3],
+    hi: [[f32; WIDTH]; 3],
+    index: [u32; WIDTH],
+    count: [u32; WIDTH],
+}
+
+impl WideNode {
+    const EMPTY: WideNode = WideNode {
+        lo: [[f32::INFINITY; WIDTH]; 3],
+        hi: [[f32::NEG_INFINITY; WIDTH]; 3],
+        index: [0; WIDTH],
+        count: [0; WIDTH],
+    };
+
+    /// Slab test of the eight boxes (Kay & Kajiya 1986, near and far planes chosen by the
+    /// direction's signs): bit `i` of the mask is set when `max(t_near, t_min) <= min(t_far,
+    /// t_max) * FAR_SCALE` for lane `i`; `t_near[i]` is returned for ordering. A NaN slab distance
+    /// (a ray lying in a box's face plane) leaves that axis unconstrained.
+    #[inline(always)]
+    fn intersect(&self, ray: &Ray, neg: [bool; 3], t_max: f32) -> (u32, [f32; WIDTH]) {
+        let (o, inv) = (ray.origin.to_array(), ray.inv_direction.to_array());
+        let mut t_near = [0.0f32; WIDTH];
+        let mut t_far = [0.0f32; WIDTH];
+        let plane = |a: usize| if neg[a] { (&self.hi[a], &self.lo[a]) } else { (&self.lo[a], &self.hi[a]) };
+        let ((nx, fx), (ny, fy), (nz, fz)) = (plane(0), plane(1), plane(2));
+        for i in 0..WIDTH {
+            let (ax, bx) = ((nx[i] - o[0]) * inv[0], (fx[i] - o[0]) * inv[0]);
+            let (ay, by) = ((ny[i] - o[1]) * inv[1], (fy[i] - o[1]) * inv[1]);
+            let (az, bz) = ((nz[i] - o[2]) * inv[2], (fz[i] - o[2]) * inv[2]);
+            t_near[i] = max_or_b(ax, max_or_b(ay, max_or_b(az, ray.tmin)));
+            t_far[i] = min_or_b(bx, min_or_b(by, min_or_b(bz, t_max))) * FAR_SCALE;
+        }
+        let mut mask = 0u32;
+        for i in 0..WIDTH {
+            mask |= u32::from(t_near[i] <= t_far[i]) << i;
+        }
+        (mask, t_near)
+    }
+}
+
+/// `a > b ? a : b` (`maxps`): `b` when `a` is NaN.
+#[inline(always)]
+fn max_or_b(a: f32, b: f32) -> f32 {
+    if a > b { a } else { b }
+}
+
+/// `a < b ? a : b` (`minps`): `b` when `a` is NaN.
+#[inline(always)]
+fn min_or_b(a: f32, b: f32) -> f32 {
+    if a < b { a } else { b }
+}
+
+/// The 8-wide tree; leaves index the primitives of the [`Bvh2`] it was collapsed from
+/// (`Bvh2::primitive_indices` order).
+pub(crate) struct WideBvh {
+    /// Root first; empty for a tree without primitives.
+    nodes: Vec<WideNode>,
+}
+
+impl WideBvh {
+    /// Collapses `bvh` (Wald et al. 2008's top-down collapse): each wide node takes its binary
+    /// node's two children, then keeps opening the inner child of largest surface area until it
+    /// holds eight children or only leaves. `None` when the result is deeper than [`MAX_DEPTH`]
+    /// or `bvh` is malformed (a child index out of range, a cycle): the caller then keeps `bvh`.
+    pub(crate) fn from_bvh2(bvh: &Bvh2) -> Option<WideBvh> {
+        let Some(root) = bvh.nodes.first() else { return Some(WideBvh { nodes: Vec::new() }) };
+        if bvh.primitive_indices.is_empty() {
+            return Some(WideBvh { nodes: Vec::new() });
+        }
+        let mut nodes = vec![WideNode::EMPTY];
+        if root.prim_count > 0 {
+            set_lane(&mut nodes[0], 0, root, root.first_index, root.prim_count);
+            return Some(WideBvh { nodes });
+        }
+        // (binary node, wide node it becomes, depth); each binary node is opened at most once.
+        let mut todo = vec![(0usize, 0usize, 1usize)];
+        let mut opened = 0usize;
+        while let Some((b, w, depth)) = todo.pop() {
+            if depth > MAX_DEPTH {
+                return None;
+            }
+            let mut kids: Vec<usize> = children(bvh, b)?.to_vec();
+            opened += 1;
+            while kids.len() < WIDTH {
+                let inner = kids
+                    .iter()
+                    .enumerate()
+                    .filter(|&(_, &k)| bvh.nodes[k].prim_count == 0)
+                    .max_by(|a, b| half_area(bvh, *a.1).total_cmp(&half_area(bvh, *b.1)));
+                let Some((j, &k)) = inner else { break };
+                let [c0, c1] = children(bvh, k)?;
+                opened += 1;
+                kids[j] = c0;
+                kids.push(c1);
+            }
+            if opened > bvh.nodes.len() {
+                return None;
+            }
+            for (lane, &k) in kids.iter().enumerate() {
+                let child = &bvh.nodes[k];
+                if child.prim_count > 0 {
+                    set_lane(&mut nodes[w], lane, child, child.first_index, child.prim_count);
+                } else {
+                    let id = nodes.len();
+                    nodes.push(WideNode::EMPTY);
+                    set_lane(&mut nodes[w], lane, child, u32::try_from(id).ok()?, 0);
+                    todo.push((k, id, depth + 1));
+                }
+            }
+        }
+        Some(WideBvh { nodes })
+    }
+
+    /// Walks the tree for `ray` (`ray.tmax` is the initial limit). `leaf(first, count, t_max)`
+    /// tests a leaf's primitives, lowers `t_max` to a nearer hit and returns true to stop the walk
+    /// (an any-hit query); `ORDERED`: visit nearer children first (closest-hit queries).
+    #[inline(always)]
+    pub(crate) fn traverse<const ORDERED: bool>(&self, ray: &Ray, mut leaf: impl FnMut(u32, u32, &mut f32) -> bool) {
+        // A ray with a NaN or infinite component hits nothing (its slab distances are NaN).
+        if self.nodes.is_empty() || !(ray.origin.is_finite() && ray.inv_direction.is_finite()) {
+            return;
+        }
+        let neg = [ray.inv_direction.x < 0.0, ray.inv_direction.y < 0.0, ray.inv_direction.z < 0.0];
+        let mut t_max = ray.tmax;
+        let mut stack = [(0u32, 0.0f32); STACK_SIZE];
+        let mut len = 0usize;
+        let mut node = 0usize;
+        loop {
+            let Some(n) = self.nodes.get(node) else { return };
+            let (mask, t_near) = n.intersect(ray, neg, t_max);
+            let base = len;
+            let mut m = mask;
+            while m != 0 {
+                let i = m.trailing_zeros() as usize;
+                m &= m - 1;
+                if n.count[i] > 0 {
+                    if leaf(n.index[i], n.count[i], &mut t_max) {
+                        return;
+                    }
+                } else if len < STACK_SIZE && n.index[i] as usize > node {
+                    // Children come after their parent, so the walk always ends, whatever lane a
+                    // degenerate ray enters (an unused lane's index 0 is the root).
+                    stack[len] = (n.index[i], t_near[i]);
+                    len += 1;
+                }
+            }
+            if ORDERED {
+                // Insertion sort of this node's pushes, farthest at the bottom: the nearest pops first.
+                for i in base + 1..len {
+                    let mut j = i;
+                    while j > base && stack[j - 1].1 < stack[j].1 {
+                        stack.swap(j - 1, j);
+                        j -= 1;
+                    }
+                }
+            }
+            // Pop the next child that a nearer hit has not culled.
+            loop {
+                if len == 0 {
+                    return;
+                }
+                len -= 1;
+                let (next, t) = stack[len];
+                if t <= t_max * FAR_SCALE {
+                    node = next as usize;
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Depth of the tree (1 for a root of leaves; 0 when empty), for tests.
+    #[cfg(test)]
+    fn depth(&self) -> usize {
+        fn walk(nodes: &[WideNode], n: usize) -> usize {
+            let node = &nodes[n];
+            1 + (0..WIDTH)
+                .filter(|&i| node.count[i] == 0 && node.lo[0][i] <= node.hi[0][i])
+                .map(|i| walk(nodes, node.index[i] as usize))
+                .max()
+                .unwrap_or(0)
+        }
+        if self.nodes.is_empty() { 0 } else { walk(&self.nodes, 0) }
+    }
+}
+
+/// The two children of inner binary node `b`, checked to be in range.
+fn children(bvh: &Bvh2, b: usize) -> Option<[usize; 2]> {
+    let first = bvh.nodes.get(b)?.first_index as usize;
+    (first + 1 < bvh.nodes.len()).then_some([first, first + 1])
+}
+
+/// Half the surface area of binary node `k`'s box.
+fn half_area(bvh: &Bvh2, k: usize) -> f32 {
+    let a = &bvh.nodes[k].aabb;
+    let d = (a.max - a.min).max(glam::Vec3A::ZERO);
+    d.x * d.y + d.y * d.z + d.z * d.x
+}
+
+/// Stores `child`'s box with `index` and `count` in `lane` of `node`.
+fn set_lane(node: &mut WideNode, lane: usize, child: &obvhs::bvh2::node::Bvh2Node, index: u32, count: u32) {
+    let (lo, hi) = (child.aabb.min.to_array(), child.aabb.max.to_array());
+    for a in 0..3 {
+        node.lo[a][lane] = lo[a];
+        node.hi[a][lane] = hi[a];
+    }
+    node.index[lane] = index;
+    node.count[lane] = count;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3A;
+    use obvhs::BvhBuildParams;
+    use obvhs::triangle::Triangle;
+
+    fn bvh2(tris: &[Triangle]) -> Bvh2 {
+        obvhs::bvh2::builder::build_bvh2_from_tris(tris, BvhBuildParams::medium_build(), &mut Default::default())
+    }
+
+    /// Every box test and leaf the walk skips is one the binary tree's answer does not need: the
+    /// closest `t` over random rays equals a brute-force loop over all triangles, bit for bit,
+    /// from a single triangle to a grid of thousands, and rays starting inside, on faces and
+    /// axis-parallel (infinite inverse directions).
+    #[test]
+    fn closest_and_any_hit_match_brute_force() {
+        let mut seed = 0x2545_f491u32;
+        let mut next = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed as f32 / u32::MAX as f32
+        };
+        for count in [1usize, 2, 9, 100, 3000] {
+            let tris: Vec<Triangle> = (0..count)
+                .map(|i| {
+                    let c = Vec3A::new((i % 17) as f32, ((i / 17) % 13) as f32, (i / 221) as f32) * 0.5;
+                    let j = |s: &mut dyn FnMut() -> f32| Vec3A::new(s(), s(), s()) * 0.6;
+                    Triangle { v0: c + j(&mut next), v1: c + j(&mut next), v2: c + j(&mut next) }
+                })
+                .collect();
+            let tree = bvh2(&tris);
+            let wide = WideBvh::from_bvh2(&tree).unwrap();
+            assert!(wide.depth() <= MAX_DEPTH);
+            let order = &tree.primitive_indices;
+            let mut hits = 0;
+            for r in 0..3000 {
+                // Towards a point near a random triangle's centroid, from anywhere around the
+                // grid, or along an axis through it.
+                let t = &tris[(next() * count as f32) as usize % count];
+                let aim = (t.v0 + t.v1 + t.v2) / 3.0 + Vec3A::new(next(), next(), next()) * 0.2 - 0.1;
+                let mut o = Vec3A::new(next() * 10.0 - 1.0, next() * 8.0 - 1.0, next() * 8.0 - 1.0);
+                if r % 5 == 0 {
+                    o = aim - Vec3A::AXES[r % 3] * if r % 2 == 0 { 3.0 } else { -3.0 };
+                }
+                let d = (aim - o).normalize();
+                let ray = Ray::new(o, d, 0.0, f32::INFINITY);
+                let brute = tris.iter().map(|t| t.intersect(&ray)).fold(f32::INFINITY, f32::min);
+                let mut hit = None;
+                wide.traverse::<true>(&ray, |first, n, t_max| {
+                    for p in first..first + n {
+                        let t = tris[order[p as usize] as usize].intersect(&ray);
+                        if t < *t_max {
+                            *t_max = t;
+                            hit = Some(t);
+                        }
+                    }
+                    false
+                });
+                assert_eq!(hit.unwrap_or(f32::INFINITY).to_bits(), brute.to_bits(), "{count} triangles, ray {r}");
+                hits += usize::from(hit.is_some());
+                for limit in [brute * 0.999, brute * 1.001, 1e30] {
+                    let shadow = Ray::new(o, d, 0.0, limit);
+                    let mut blocked = false;
+                    wide.traverse::<false>(&shadow, |first, n, t_max| {
+                        blocked =
+                            (first..first + n).any(|p| tris[order[p as usize] as usize].intersect(&shadow) < *t_max);
+                        blocked
+                    });
+                    assert_eq!(blocked, brute < limit, "{count} triangles, ray {r}, limit {limit}");
+                }
+            }
+            // Enough rays hit for the comparison to mean something (a single triangle: a few).
+            assert!(hits >= 1000, "{count} triangles: {hits} of 3000 rays hit");
+        }
+    }
+
+    #[test]
+    fn an_empty_tree_hits_nothing_and_a_deep_one_is_refused() {
+        let empty = WideBvh::from_bvh2(&Bvh2::default()).unwrap();
+        let mut called = false;
+        empty.traverse::<true>(&Ray::new(Vec3A::ZERO, Vec3A::X, 0.0, f32::INFINITY), |_, _, _| {
+            called = true;
+            false
+        });
+        assert!(!called);
+        // Rays with NaN or infinite components end without a hit (and without visiting leaves).
+        let tris = [Triangle { v0: Vec3A::ZERO, v1: Vec3A::X, v2: Vec3A::Y }];
+        let wide = WideBvh::from_bvh2(&bvh2(&tris)).unwrap();
+        let nan = Vec3A::new(f32::NAN, 0.0, 1.0);
+        for (o, d) in [(Vec3A::Z, nan), (nan, -Vec3A::Z), (Vec3A::new(0.2, 0.2, f32::INFINITY), -Vec3A::Z)] {
+            let ray = Ray { origin: o, direction: d, inv_direction: d.recip(), tmin: 0.0, tmax: f32::INFINITY };
+            wide.traverse::<true>(&ray, |_, _, _| panic!("{o} {d} reached a leaf"));
+        }
+        // A chain: every inner node has a leaf and an inner child, so each wide level opens
+        // only seven binary levels.
+        let mut chain = Bvh2::default();
+        let levels = 8 * MAX_DEPTH;
+        for i in 0..levels {
+            let inner = obvhs::bvh2::node::Bvh2Node {
+                aabb: obvhs::aabb::Aabb { min: Vec3A::ZERO, max: Vec3A::ONE },
+                prim_count: 0,
+                first_index: (2 * i + 1) as u32,
+                ..Default::default()
+            };
+            chain.nodes.push(inner);
+            chain.nodes.push(obvhs::bvh2::node::Bvh2Node { prim_count: 1, first_index: i as u32, ..inner });
+        }
+        chain.nodes.push(obvhs::bvh2::node::Bvh2Node { prim_count: 1, first_index: levels as u32, ..chain.nodes[0] });
+        chain.primitive_indices = (0..=levels as u32).collect();
+        assert!(WideBvh::from_bvh2(&chain).is_none());
+    }
+}

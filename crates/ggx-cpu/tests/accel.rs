@@ -1,0 +1,70 @@
+//! The wide BVH against obvhs' binary BVH it is collapsed from, on every shipped scene: the same
+//! closest distance bit for bit and the same shadow-ray answers, and where the two disagree the
+//! wide BVH's is a brute-force loop's over all triangles (its box test keeps a rounding margin
+//! that obvhs' lacks).
+
+use std::path::Path;
+
+use ggx_core::{SampleStream, SequenceKind};
+use ggx_cpu::{Accel, AccelKind};
+use glam::Vec3;
+use obvhs::ray::Ray;
+use obvhs::triangle::Triangle as BvhTriangle;
+
+/// Rays from around the scene's bounds towards random points inside them.
+fn rays(lo: Vec3, hi: Vec3, count: u32) -> Vec<(Vec3, Vec3)> {
+    (0..count)
+        .map(|i| {
+            let mut s = SampleStream::new(SequenceKind::Independent, 11, i, 0);
+            let mut point = |scale: f32| {
+                let (a, b) = (s.next_2d(), s.next_1d());
+                (lo + hi) * 0.5 + (Vec3::new(a.x, a.y, b) - 0.5) * (hi - lo) * scale
+            };
+            let o = point(2.0);
+            (o, (point(1.0) - o).normalize_or(Vec3::Y))
+        })
+        .collect()
+}
+
+#[test]
+fn wide_bvh_finds_the_binary_bvhs_hits() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+    let mut scenes = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "toml") {
+            continue;
+        }
+        let scene = ggx_scene::load_scene(&path).unwrap();
+        let Some((lo, hi)) = scene.mesh.bounds() else { continue };
+        let tris = &scene.mesh.triangles;
+        let (wide, bvh2) = (Accel::build(tris, AccelKind::Wide), Accel::build(tris, AccelKind::Bvh2));
+        let (mut hits, mut ties, mut disagreements) = (0, 0, 0);
+        for (o, d) in rays(lo, hi, 3000) {
+            let (w, b) = (wide.closest(o, d, f32::INFINITY), bvh2.closest(o, d, f32::INFINITY));
+            if w.map(|h| h.t.to_bits()) != b.map(|h| h.t.to_bits()) {
+                let ray = Ray::new(o.into(), d.into(), 0.0, f32::INFINITY);
+                let brute = tris
+                    .iter()
+                    .map(|t| BvhTriangle { v0: t.v0.into(), v1: t.v1.into(), v2: t.v2.into() }.intersect(&ray))
+                    .fold(f32::INFINITY, f32::min);
+                let t = w.map_or(f32::INFINITY, |h| h.t);
+                assert_eq!(t.to_bits(), brute.to_bits(), "{}: ray {o} {d}, binary {b:?}", path.display());
+                disagreements += 1;
+            }
+            if let (Some(w), Some(b)) = (w, b) {
+                hits += 1;
+                // Two triangles at the same distance (a shared edge or vertex): either is right.
+                ties += u32::from(w.triangle != b.triangle);
+                let limit = w.t * 0.99;
+                assert_eq!(wide.unoccluded(o, d, limit), bvh2.unoccluded(o, d, limit), "{}", path.display());
+            }
+            assert_eq!(wide.unoccluded(o, d, 1e6), bvh2.unoccluded(o, d, 1e6), "{}: ray {o} {d}", path.display());
+        }
+        assert!(hits >= 500, "{}: only {hits} rays hit", path.display());
+        assert!(ties * 100 <= hits, "{}: {ties} of {hits} hits on another triangle", path.display());
+        assert!(disagreements * 100 <= hits, "{}: {disagreements} of {hits} hits differ", path.display());
+        scenes += 1;
+    }
+    assert!(scenes >= 6, "only {scenes} scenes");
+}
