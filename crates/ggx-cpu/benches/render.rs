@@ -21,10 +21,10 @@ fn throughput(c: &mut Criterion) {
     g.throughput(Throughput::Elements(128 * 128 * 4));
     for name in ["cornell.toml", "furnace.toml", "bunny.toml", "roughness-sweep.toml"] {
         let scene = scene(name);
-        for accel in [AccelKind::Cwbvh, AccelKind::Bvh2] {
+        for accel in [AccelKind::Wide, AccelKind::Cwbvh, AccelKind::Bvh2] {
             let renderer = Renderer::new(&scene, accel);
             for specialize in [true, false] {
-                if accel == AccelKind::Bvh2 && !specialize {
+                if accel != AccelKind::Wide && !specialize {
                     continue;
                 }
                 let id = format!("{name}/{accel:?}/{}", if specialize { "specialized" } else { "generic" });

@@ -22,12 +22,12 @@ use std::path::PathBuf;
 use tolerances::Tolerances;
 
 /// Usage of `diff`.
-const USAGE: &str = "usage: cargo xtask diff [--quick] [--width W] [--spp N] [--cpu-bvh cwbvh|bvh2] [SCENES...]
+const USAGE: &str = "usage: cargo xtask diff [--quick] [--width W] [--spp N] [--cpu-bvh wide|cwbvh|bvh2] [SCENES...]
   --quick          width 48, 8 spp (what `cargo xtask ci` runs)
   --width W        image width; the height follows the scene's aspect ratio (default 128)
   --spp N          samples per pixel (default 32)
-  --cpu-bvh KIND   the CPU backend's BVH: cwbvh (default, what `ggx render` uses) or bvh2 (the
-                   layout the wgpu backend traces, so ties between triangles resolve alike)
+  --cpu-bvh KIND   the CPU backend's BVH: wide (default, what `ggx render` uses), cwbvh, or bvh2
+                   (the layout the wgpu backend traces, so ties between triangles resolve alike)
   SCENES           scene names (e.g. cornell) or paths; default: every scenes/*.toml";
 
 /// Parsed arguments.
@@ -61,9 +61,12 @@ impl Options {
                 "--spp" => options.overrides.spp = number("--spp")?,
                 "--cpu-bvh" => {
                     options.cpu_bvh = match it.next().map(String::as_str) {
+                        Some("wide") => AccelKind::Wide,
                         Some("cwbvh") => AccelKind::Cwbvh,
                         Some("bvh2") => AccelKind::Bvh2,
-                        other => return Err(format!("--cpu-bvh: expected cwbvh or bvh2, got {other:?}\n\n{USAGE}")),
+                        other => {
+                            return Err(format!("--cpu-bvh: expected wide, cwbvh or bvh2, got {other:?}\n\n{USAGE}"));
+                        }
                     }
                 }
                 "-h" | "--help" => return Err(USAGE.into()),
@@ -158,8 +161,10 @@ mod tests {
         let o = Options::parse(&args("--width 64 --spp 4")).unwrap();
         assert_eq!((o.overrides.width, o.overrides.spp), (64, 4));
         assert!(o.scenes.is_empty());
-        assert_eq!(o.cpu_bvh, AccelKind::Cwbvh);
+        assert_eq!(o.cpu_bvh, AccelKind::Wide);
         assert_eq!(Options::parse(&args("--cpu-bvh bvh2")).unwrap().cpu_bvh, AccelKind::Bvh2);
+        assert_eq!(Options::parse(&args("--cpu-bvh cwbvh")).unwrap().cpu_bvh, AccelKind::Cwbvh);
+        assert!(Options::parse(&args("--cpu-bvh kd")).is_err());
     }
 
     #[test]

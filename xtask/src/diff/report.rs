@@ -72,7 +72,7 @@ pub struct Report {
     pub overrides: Overrides,
     /// Where the bounds came from.
     pub tolerances: PathBuf,
-    /// The CPU backend's BVH layout (`Cwbvh` or `Bvh2`).
+    /// The CPU backend's BVH layout (`Wide`, `Cwbvh` or `Bvh2`).
     pub cpu_bvh: String,
     /// One per scene.
     pub rows: Vec<Row>,
