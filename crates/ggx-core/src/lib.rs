@@ -14,7 +14,8 @@
 //!   [`TrowbridgeReitz::sample_wm_spherical_caps`] (Dupuy & Benyoub 2023) and
 //!   [`TrowbridgeReitz::sample_wm_bounded`] (Eto & Tokuyoshi 2023), plus cosine and uniform
 //!   hemisphere baselines in [`warp`].
-//! * [`Fresnel`]: Schlick, exact dielectric, complex-IOR conductor and `One`.
+//! * [`Fresnel`]: Schlick, exact dielectric, complex-IOR conductor and `One`; the conductor
+//!   is one source over [`lanes::Lanes`], evaluated for R, G and B at once as `Vec3A` lanes.
 //! * [`GgxConductor`]: the reflection BRDF that ties them together (`eval`, `pdf`, `sample`).
 //! * [`GgxConductorMs`]: the conductor with Kulla & Conty 2017's multiple-scattering lobe
 //!   (energy compensation), tables in [`energy`] and [`energy_tables`].
