@@ -18,7 +18,7 @@ fn info_prints_counts_and_build_times() {
     for key in ["materials:", "lights:", "features:", "integrator:", "camera:", "bvh build:", "silver-smooth"] {
         assert!(text.contains(key), "missing {key}: {text}");
     }
-    assert!(text.contains("cwbvh") && text.contains("bvh2"), "{text}");
+    assert!(text.contains("wide") && text.contains("cwbvh") && text.contains("bvh2"), "{text}");
 }
 
 #[test]

@@ -51,7 +51,7 @@ fn any_split_merges_to_the_single_render_bit_for_bit() {
     render(&dir, "plain.exr", &[]);
     let (info, whole) = film(&dir, "whole.exr");
     assert_eq!((info.samples, info.total, info.window), ([0, 40], 40, [0, 0, 40, 30]));
-    assert_eq!(info.backend, "cpu cwbvh", "the BVH decides ties between triangles: part of the identity");
+    assert_eq!(info.backend, "cpu wide", "the BVH decides ties between triangles: part of the identity");
     assert!(info.stats.iter().any(|(k, _)| k == "cameraSamplesPerSecond"), "{:?}", info.stats);
     // The plain image is the same mean.
     let plain = ggx_film::read_exr(&dir.path().join("plain.exr")).unwrap().2;
