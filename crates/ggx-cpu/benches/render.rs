@@ -1,6 +1,6 @@
 //! Render throughput on the shipped scenes (`cargo bench -p ggx-cpu`): camera samples per
-//! second for the specialized and the generic kernel, with the CWBVH and the BVH2, on all
-//! cores. Scenes are rendered at 128x128 with 4 samples per pixel per iteration.
+//! second for the specialized and the generic kernel with the wide BVH, and the specialized
+//! kernel with obvhs' CWBVH and BVH2, on all cores. Scenes are rendered at 128x128 with 4 samples per pixel per iteration.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use ggx_cpu::{AccelKind, RenderControl, RenderOptions, Renderer};

@@ -25,8 +25,10 @@ std::thread_local! {
 /// Deepest tree the stack holds: `(WIDTH - 1) * MAX_DEPTH + 1 <= STACK_SIZE`.
 const MAX_DEPTH: usize = (STACK_SIZE - 1) / (WIDTH - 1);
 
-/// `1 + 2 gamma(3)` (pbrt-v4, 6.8.2): the far distance of a box is scaled by it so that rounding
-/// in the slab test never culls a box that the triangle test would hit (Ize 2013).
+/// `1 + 2 gamma(3)` (pbrt-v4, 6.8.2): the far distance of a box is scaled by it so that the
+/// slab test's own rounding does not cull a box the ray enters (Ize 2013). (A triangle test
+/// that rounds its `t` further, at grazing incidence, can still fall outside; obvhs' trees have
+/// no margin at all.)
 const FAR_SCALE: f32 = 1.0 + 2.0 * (3.0 * f32::EPSILON * 0.5) / (1.0 - 3.0 * f32::EPSILON * 0.5);
 
 /// Eight children: boxes as `lo[axis][lane]`, `hi[axis][lane]`; `count[lane] > 0` marks a leaf
@@ -54,8 +56,8 @@ impl WideNode {
     /// t_max) * FAR_SCALE` for lane `i`; `t_near[i]` is returned for ordering. A NaN slab distance
     /// (a ray lying in a box's face plane) leaves that axis unconstrained.
     #[inline(always)]
-    fn intersect(&self, ray: &Ray, neg: [bool; 3], t_max: f32) -> (u32, [f32; WIDTH]) {
-        let (o, inv) = (ray.origin.to_array(), ray.inv_direction.to_array());
+    fn intersect(&self, ray: &Ray, inv: [f32; 3], neg: [bool; 3], t_max: f32) -> (u32, [f32; WIDTH]) {
+        let o = ray.origin.to_array();
         let mut t_near = [0.0f32; WIDTH];
         let mut t_far = [0.0f32; WIDTH];
         let plane = |a: usize| if neg[a] { (&self.hi[a], &self.lo[a]) } else { (&self.lo[a], &self.hi[a]) };
@@ -174,8 +176,8 @@ impl WideBvh {
     /// (an any-hit query); `ORDERED`: visit nearer children first (closest-hit queries).
     #[inline(always)]
     pub(crate) fn traverse<const ORDERED: bool>(&self, ray: &Ray, leaf: impl FnMut(u32, u32, &mut f32) -> bool) {
-        // A ray with a NaN or infinite component hits nothing (its slab distances are NaN).
-        if self.nodes.is_empty() || !(ray.origin.is_finite() && ray.inv_direction.is_finite()) {
+        // A ray with a NaN component, or an infinite origin, hits nothing.
+        if self.nodes.is_empty() || !ray.origin.is_finite() || ray.direction.is_nan() {
             return;
         }
         STACK.with(|cell| match cell.try_borrow_mut() {
@@ -188,7 +190,9 @@ impl WideBvh {
         })
     }
 
-    /// [`Self::traverse`] with its stack.
+    /// [`Self::traverse`] with its stack. The slab test uses the exact reciprocal of the
+    /// direction (infinite for a zero component), not obvhs' clamped `inv_direction`, which
+    /// shortens the slabs of near-axis-parallel rays.
     #[inline(always)]
     fn walk<const ORDERED: bool>(
         &self,
@@ -196,13 +200,15 @@ impl WideBvh {
         stack: &mut Stack,
         mut leaf: impl FnMut(u32, u32, &mut f32) -> bool,
     ) {
-        let neg = [ray.inv_direction.x < 0.0, ray.inv_direction.y < 0.0, ray.inv_direction.z < 0.0];
+        let inv = ray.direction.recip().to_array();
+        // The sign bit, so that -0.0 (reciprocal -inf) takes the mirrored planes.
+        let neg = inv.map(|x| x.is_sign_negative());
         let mut t_max = ray.tmax;
         let mut len = 0usize;
         let mut node = 0usize;
         loop {
             let Some(n) = self.nodes.get(node) else { return };
-            let (mask, t_near) = n.intersect(ray, neg, t_max);
+            let (mask, t_near) = n.intersect(ray, inv, neg, t_max);
             let base = len;
             let mut m = mask;
             while m != 0 {
@@ -294,10 +300,11 @@ mod tests {
         obvhs::bvh2::builder::build_bvh2_from_tris(tris, BvhBuildParams::medium_build(), &mut Default::default())
     }
 
-    /// Every box test and leaf the walk skips is one the binary tree's answer does not need: the
-    /// closest `t` over random rays equals a brute-force loop over all triangles, bit for bit,
-    /// from a single triangle to a grid of thousands, and rays starting inside, on faces and
-    /// axis-parallel (infinite inverse directions).
+    /// Every box test and leaf the walk skips is one the answer does not need: the closest `t`
+    /// over random rays equals a brute-force loop over all triangles, bit for bit, from a
+    /// single triangle to a grid of thousands, for rays from inside and outside the grid and
+    /// axis-parallel ones (zero components: infinite reciprocals, and NaN slab distances where
+    /// the origin lies on a face plane, which the grid's shared coordinates make common).
     #[test]
     fn closest_and_any_hit_match_brute_force() {
         let mut seed = 0x2545_f491u32;
@@ -324,12 +331,17 @@ mod tests {
                 // Towards a point near a random triangle's centroid, from anywhere around the
                 // grid, or along an axis through it.
                 let t = &tris[(next() * count as f32) as usize % count];
-                let aim = (t.v0 + t.v1 + t.v2) / 3.0 + Vec3A::new(next(), next(), next()) * 0.2 - 0.1;
+                let mut aim = (t.v0 + t.v1 + t.v2) / 3.0 + Vec3A::new(next(), next(), next()) * 0.2 - 0.1;
                 let mut o = Vec3A::new(next() * 10.0 - 1.0, next() * 8.0 - 1.0, next() * 8.0 - 1.0);
                 if r % 5 == 0 {
                     o = aim - Vec3A::AXES[r % 3] * if r % 2 == 0 { 3.0 } else { -3.0 };
                 }
+                if r % 7 == 0 && r % 5 != 0 {
+                    // On the plane of a triangle vertex's coordinate, moving parallel to it.
+                    (o, aim) = (Vec3A::new(o.x, t.v0.y, o.z), Vec3A::new(aim.x, t.v0.y, aim.z));
+                }
                 let d = (aim - o).normalize();
+                // (The walk ignores obvhs' clamped `inv_direction`: it takes the exact reciprocal.)
                 let ray = Ray::new(o, d, 0.0, f32::INFINITY);
                 let brute = tris.iter().map(|t| t.intersect(&ray)).fold(f32::INFINITY, f32::min);
                 let mut hit = None;
@@ -346,7 +358,7 @@ mod tests {
                 assert_eq!(hit.unwrap_or(f32::INFINITY).to_bits(), brute.to_bits(), "{count} triangles, ray {r}");
                 hits += usize::from(hit.is_some());
                 for limit in [brute * 0.999, brute * 1.001, 1e30] {
-                    let shadow = Ray::new(o, d, 0.0, limit);
+                    let shadow = Ray { tmax: limit, ..ray };
                     let mut blocked = false;
                     wide.traverse::<false>(&shadow, |first, n, t_max| {
                         blocked =
@@ -356,7 +368,7 @@ mod tests {
                     assert_eq!(blocked, brute < limit, "{count} triangles, ray {r}, limit {limit}");
                 }
             }
-            // Enough rays hit for the comparison to mean something (a single triangle: a few).
+            // Enough rays hit for the comparison to mean something.
             assert!(hits >= 1000, "{count} triangles: {hits} of 3000 rays hit");
         }
     }
@@ -406,13 +418,29 @@ mod tests {
             false
         });
         assert!(!called);
-        // Rays with NaN or infinite components end without a hit (and without visiting leaves).
+        // Rays with a NaN component or an infinite origin end without a hit (and without
+        // visiting a leaf); the same rays with finite components reach the triangle.
         let tris = [Triangle { v0: Vec3A::ZERO, v1: Vec3A::X, v2: Vec3A::Y }];
         let wide = WideBvh::from_bvh2(&bvh2(&tris)).unwrap();
-        let nan = Vec3A::new(f32::NAN, 0.0, 1.0);
-        for (o, d) in [(Vec3A::Z, nan), (nan, -Vec3A::Z), (Vec3A::new(0.2, 0.2, f32::INFINITY), -Vec3A::Z)] {
-            let ray = Ray { origin: o, direction: d, inv_direction: d.recip(), tmin: 0.0, tmax: f32::INFINITY };
-            wide.traverse::<true>(&ray, |_, _, _| panic!("{o} {d} reached a leaf"));
+        let ray =
+            |o: Vec3A, d: Vec3A| Ray { origin: o, direction: d, inv_direction: Vec3A::ONE, tmin: 0.0, tmax: 1e30 };
+        let (nan, inf) = (f32::NAN, f32::INFINITY);
+        for (o, d) in [
+            (Vec3A::new(0.2, 0.2, 1.0), Vec3A::new(nan, 0.0, -1.0)),
+            (Vec3A::new(nan, 0.2, 1.0), -Vec3A::Z),
+            (Vec3A::new(0.2, 0.2, inf), -Vec3A::Z),
+        ] {
+            wide.traverse::<true>(&ray(o, d), |_, _, _| panic!("{o} {d} reached a leaf"));
+        }
+        for (o, d) in
+            [(Vec3A::new(0.2, 0.2, 1.0), -Vec3A::Z), (Vec3A::new(0.2, 0.2, 1.0), Vec3A::new(-0.0, -0.0, -1.0))]
+        {
+            let mut reached = false;
+            wide.traverse::<true>(&ray(o, d), |_, _, _| {
+                reached = true;
+                false
+            });
+            assert!(reached, "{o} {d}");
         }
         // A chain: every inner node has a leaf and an inner child, so each wide level opens
         // only seven binary levels.

@@ -42,7 +42,8 @@ fn wide_bvh_finds_the_binary_bvhs_hits() {
         let (mut hits, mut ties, mut disagreements) = (0, 0, 0);
         for (o, d) in rays(lo, hi, 3000) {
             let (w, b) = (wide.closest(o, d, f32::INFINITY), bvh2.closest(o, d, f32::INFINITY));
-            if w.map(|h| h.t.to_bits()) != b.map(|h| h.t.to_bits()) {
+            let agree = w.map(|h| h.t.to_bits()) == b.map(|h| h.t.to_bits());
+            if !agree {
                 let ray = Ray::new(o.into(), d.into(), 0.0, f32::INFINITY);
                 let brute = tris
                     .iter()
@@ -57,9 +58,14 @@ fn wide_bvh_finds_the_binary_bvhs_hits() {
                 // Two triangles at the same distance (a shared edge or vertex): either is right.
                 ties += u32::from(w.triangle != b.triangle);
                 let limit = w.t * 0.99;
-                assert_eq!(wide.unoccluded(o, d, limit), bvh2.unoccluded(o, d, limit), "{}", path.display());
+                assert!(wide.unoccluded(o, d, limit), "{}: ray {o} {d}", path.display());
             }
-            assert_eq!(wide.unoccluded(o, d, 1e6), bvh2.unoccluded(o, d, 1e6), "{}: ray {o} {d}", path.display());
+            // Where the binary BVH missed the nearest hit its shadow answer may be wrong too.
+            let blocked = w.is_some_and(|h| h.t < 1e6);
+            assert_eq!(wide.unoccluded(o, d, 1e6), !blocked, "{}: ray {o} {d}", path.display());
+            if agree {
+                assert_eq!(wide.unoccluded(o, d, 1e6), bvh2.unoccluded(o, d, 1e6), "{}: ray {o} {d}", path.display());
+            }
         }
         assert!(hits >= 500, "{}: only {hits} rays hit", path.display());
         assert!(ties * 100 <= hits, "{}: {ties} of {hits} hits on another triangle", path.display());

@@ -261,17 +261,20 @@ fn image_is_bit_identical_for_any_thread_count_and_kernel() {
     let mut scene = ggx_scene::load_scene(&path).unwrap();
     scene.camera.resolution = [40, 24];
     scene.integrator.spp = 6;
+    for accel in [AccelKind::Cwbvh, AccelKind::Wide] {
+        let renderer = Renderer::new(&scene, accel);
+        let image = |threads, specialize| {
+            let r = renderer
+                .render(&RenderOptions { threads, specialize, ..Default::default() }, &RenderControl::default())
+                .unwrap();
+            r.film.mean().iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<u32>>()
+        };
+        let one = image(1, true);
+        assert_eq!(one, image(2, true), "{accel:?}: 1 vs 2 threads");
+        assert_eq!(one, image(3, true), "{accel:?}: 1 vs 3 threads");
+        assert_eq!(one, image(2, false), "{accel:?}: specialized vs generic kernel");
+    }
     let renderer = Renderer::new(&scene, AccelKind::Wide);
-    let image = |threads, specialize| {
-        let r = renderer
-            .render(&RenderOptions { threads, specialize, ..Default::default() }, &RenderControl::default())
-            .unwrap();
-        r.film.mean().iter().flat_map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<u32>>()
-    };
-    let one = image(1, true);
-    assert_eq!(one, image(2, true), "1 vs 2 threads");
-    assert_eq!(one, image(3, true), "1 vs 3 threads");
-    assert_eq!(one, image(2, false), "specialized vs generic kernel");
     let wide = mean(&renderer.render(&RenderOptions::default(), &RenderControl::default()).unwrap().film.mean());
     for other in [AccelKind::Cwbvh, AccelKind::Bvh2] {
         let r = Renderer::new(&scene, other).render(&RenderOptions::default(), &RenderControl::default()).unwrap();

@@ -229,10 +229,13 @@ mod tests {
     #[test]
     fn guided_search_finds_the_binary_search_segment() {
         let spike: Vec<f32> = (0..300).map(|i| if i == 123 { 1e6 } else { (i % 7) as f32 }).collect();
-        let tables: [Vec<f32>; 5] =
-            [std::vec![1.0], std::vec![0.0, 0.0, 5.0, 0.0], spike, (0..64).map(|i| (i * i) as f32).collect(), std::vec![
-                1e-30, 1.0, 1e-30, 0.0, 2.0
-            ]];
+        let tables: [Vec<f32>; 5] = [
+            std::vec![1.0],
+            std::vec![0.0, 0.0, 5.0, 0.0],
+            spike,
+            (0..64).map(|i| (i * i) as f32).collect(),
+            std::vec![1e-30, 1.0, 1e-30, 0.0, 2.0],
+        ];
         let hostile = [f32::NAN, -1.0, 0.0, 1e-40, 0.5, ONE_MINUS_EPSILON, 1.0, f32::INFINITY];
         for weights in &tables {
             let d = Distribution1D::new(weights);

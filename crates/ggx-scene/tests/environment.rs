@@ -37,7 +37,7 @@ fn random_map(rotation_degrees: f32) -> EnvMap {
 
 /// Map-space texel of a world direction.
 fn cell(map: &EnvMap, world: Vec3) -> (usize, usize) {
-    let uv = direction_to_uv(Quat::from_rotation_y(-map.rotation) * world);
+    let uv = direction_to_uv(Quat::from_rotation_y(-map.rotation()) * world);
     let col = ((uv.x * map.width as f32) as usize).min(map.width as usize - 1);
     let row = ((uv.y * map.height as f32) as usize).min(map.height as usize - 1);
     (col, row)
@@ -74,6 +74,10 @@ fn sampled_pdf_matches_pdf() {
             assert!((d.length() - 1.0).abs() < 1e-4);
             assert!(pdf > 0.0 && pdf.is_finite());
             assert!(map.radiance(d) != Vec3::ZERO, "sampled a black texel");
+            // The escaped-path lookup: the texel this test finds on its own, and pdf()'s density.
+            let (col, row) = cell(&map, d);
+            assert_eq!(map.radiance_and_pdf(d), (map.texel(col, row), map.pdf(d)));
+            assert_eq!(map.radiance_and_pdf(d).0, map.radiance(d));
             if (map.pdf(d) - pdf).abs() > 1e-3 * pdf {
                 mismatches += 1;
             }
@@ -150,7 +154,7 @@ fn nearest_texel_lookup_and_rotation() {
     let map = random_map(90.0);
     for (row, col) in [(0, 0), (5, 17), (15, 31)] {
         let uv = Vec2::new((col as f32 + 0.5) / 32.0, (row as f32 + 0.5) / 16.0);
-        let world = Quat::from_rotation_y(map.rotation) * uv_to_direction(uv);
+        let world = Quat::from_rotation_y(map.rotation()) * uv_to_direction(uv);
         assert_eq!(map.radiance(world), map.texel(col, row));
         let t = map.texels[row * 32 + col];
         assert_eq!(map.texel(col, row), 2.0 * Vec3::new(t[0], t[1], t[2]));

@@ -417,8 +417,8 @@ impl SceneTables {
                 let d = &m.distribution;
                 params.env_kind = 2;
                 (params.env_width, params.env_height, params.env_scale) = (m.width, m.height, m.scale);
-                params.env_to_map = Quat::from_rotation_y(-m.rotation).to_array();
-                params.env_to_world = Quat::from_rotation_y(m.rotation).to_array();
+                params.env_to_map = Quat::from_rotation_y(-m.rotation()).to_array();
+                params.env_to_world = Quat::from_rotation_y(m.rotation()).to_array();
                 params.env_marginal_integral = d.marginal.integral;
                 params.env_func = push(&mut table, &d.func);
                 params.env_conditional_cdf = push(&mut table, &d.conditional_cdf);

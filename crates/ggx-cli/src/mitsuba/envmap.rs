@@ -127,7 +127,7 @@ mod tests {
             let m = map(16, 8, rotation_deg);
             let k = 3;
             let (mw, mh, px) = resample(&m, k);
-            let t = to_world(m.rotation);
+            let t = to_world(m.rotation());
             for j in (1..mh - 1).filter(|j| j % k != 0) {
                 for c in 0..mw {
                     let local =

@@ -197,7 +197,7 @@ pub fn export(scene: &Scene, options: &ExportOptions) -> Result<Export, NoTwin> 
             x.leaf("string", &[("name", "filename"), ("value", &name)]);
             x.leaf("float", &[("name", "scale"), ("value", &map.scale.to_string())]);
             x.open("transform", &[("name", "to_world")]);
-            let m = envmap::to_world(map.rotation);
+            let m = envmap::to_world(map.rotation());
             let values: Vec<String> = m.iter().flatten().map(|v| format!("{v}")).collect();
             x.leaf("matrix", &[("value", &values.join(" "))]);
             x.close();

@@ -26,9 +26,9 @@ pub struct EnvMap {
     pub texels: Vec<[f32; 4]>,
     /// Multiplier applied to every texel.
     pub scale: f32,
-    /// Rotation of the map about +y in radians: world direction = `R_y(rotation)` * map
-    /// direction. Set by the constructors, which derive the lookups' rotations from it.
-    pub rotation: f32,
+    /// Rotation of the map about +y in radians ([`Self::rotation`]); private, so that the
+    /// lookups' quaternions below always follow it.
+    rotation: f32,
     /// Sampling distribution over texels, weights `luminance * sin(theta of the row centre)`.
     pub distribution: Distribution2D,
     /// `R_y(-rotation)`, world to map (the same quaternion every lookup used to rebuild).
@@ -122,6 +122,12 @@ impl EnvMap {
         let rotation = rotation_degrees.to_radians();
         let (to_map, to_world) = (Quat::from_rotation_y(-rotation), Quat::from_rotation_y(rotation));
         Ok(Self { width, height, texels, scale, rotation, distribution, to_map, to_world })
+    }
+
+    /// Rotation of the map about +y in radians: world direction = `R_y(rotation)` * map
+    /// direction.
+    pub fn rotation(&self) -> f32 {
+        self.rotation
     }
 
     fn to_map(&self, world: Vec3) -> Vec3 {
