@@ -72,6 +72,49 @@ fn g2_denominator(d: &TrowbridgeReitz, wo: Vec3, wi: Vec3, so: f32) -> f32 {
     2.0 * (wi.z * so + wo.z * d.stretched_len(wi))
 }
 
+/// A direction reflected about a sampled microfacet normal ([`reflect_about`]).
+#[derive(Clone, Copy)]
+pub(crate) struct Reflected {
+    /// The unit reflected direction; zero where the sample is invalid.
+    pub wi: Vec3,
+    /// Its density under the technique; zero where the sample is invalid.
+    pub pdf: f32,
+    /// The weight divided by the Fresnel term, `<= 1` (for VNDF `G2 / G1(wo)`).
+    pub scale: f32,
+    /// `wo . wm` at the half vector of the returned pair: the Fresnel term's argument.
+    pub cos_om: f32,
+}
+
+/// `wi = reflect(wo, wm)` for a normal `wm` sampled by `sampling` at a unit `wo` with
+/// `wo.z > 0`, with its density and weight / F (closed forms that never divide by `D`: VNDF
+/// `G2 / G1(wo)`, bounded `zi (k zo + so) / (zi so + zo si)`, NDF `G2 |wo.wm| / (zo wm.z)`).
+/// Invalid (zero `wi` and pdf) where `wm` faces away from `wo`, `wi` falls at or below the
+/// horizon, or the density is not finite and positive. Branch-free but for the uniform
+/// `sampling`, so that `crate::batch` runs this very function on each lane.
+#[inline(always)]
+pub(crate) fn reflect_about(d: &TrowbridgeReitz, wo: Vec3, wm: Vec3, sampling: Sampling) -> Reflected {
+    let cos_sampled = wo.dot(wm);
+    let wi = normalize_or_zero(reflect(wo, wm));
+    // Weight and pdf from the half vector of the returned pair, so that they agree with
+    // eval(wo, wi) / pdf(wo, wi) even where reflect() cancels at grazing angles.
+    let wm = normalize_or_zero(wo + wi);
+    let cos_om = wo.dot(wm);
+    let so = d.stretched_len(wo);
+    let denom = g2_denominator(d, wo, wi, so);
+    let (pdf, scale) = match sampling {
+        Sampling::Ndf => (d.pdf_wm_ndf(wm) / (4.0 * cos_om), 4.0 * wi.z * cos_om / (wm.z * denom)),
+        Sampling::Bounded => {
+            let c = d.bounded_k(wo) * wo.z + so;
+            // <= 1 analytically (k <= 1, zi <= si); the min guards subnormal rounding.
+            (d.d(wm) / (2.0 * c), (2.0 * wi.z * c / denom).min(1.0))
+        }
+        // G2 / G1(wo) <= 1.
+        _ => (d.d(wm) / (2.0 * (wo.z + so)), (2.0 * wi.z * (wo.z + so) / denom).min(1.0)),
+    };
+    let ok = cos_sampled > 0.0 && wi.z > 0.0 && pdf > 0.0 && pdf.is_finite();
+    Reflected { wi: if ok { wi } else { Vec3::ZERO }, pdf: if ok { pdf } else { 0.0 }, scale, cos_om }
+}
+
 impl GgxConductor {
     /// BRDF with alphas clamped to `[ALPHA_MIN, ALPHA_MAX]`; a lobe with both alphas below
     /// [`crate::DELTA_ALPHA`] is a mirror.
@@ -102,20 +145,24 @@ impl GgxConductor {
     /// degenerate input. Inputs need not be normalized.
     #[inline]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
+        self.eval_with(wo, wi, |cos| self.fresnel.eval(cos))
+    }
+
+    /// [`Self::eval`] with the Fresnel term `fresnel(wo . wm)`, branch-free (every guard is a
+    /// select on values computed for every input), so that `crate::batch` runs this very
+    /// function on each lane with the Fresnel kind chosen once per batch.
+    #[inline(always)]
+    pub(crate) fn eval_with(&self, wo: Vec3, wi: Vec3, fresnel: impl Fn(f32) -> Vec3) -> Vec3 {
         let (wo, wi) = (normalize_or_zero(wo), normalize_or_zero(wi));
-        if !(wo.z > 0.0 && wi.z > 0.0) || self.is_delta() {
-            return Vec3::ZERO;
-        }
         let wm = normalize_or_zero(wo + wi);
         let cos_om = wo.dot(wm);
-        // wo.wm = |wo + wi| / 2 >= 0 exactly; rounding can flip it where wo ~ -wi at grazing angles.
-        if !(cos_om > 0.0) {
-            return Vec3::ZERO;
-        }
         let d = &self.distribution;
         let so = d.stretched_len(wo);
         let f = d.d(wm) * wi.z / g2_denominator(d, wo, wi, so);
-        self.fresnel.eval(cos_om) * finite_or_zero(f)
+        let value = fresnel(cos_om) * finite_or_zero(f);
+        // wo.wm = |wo + wi| / 2 >= 0 exactly; rounding can flip it where wo ~ -wi at grazing angles.
+        let ok = wo.z > 0.0 && wi.z > 0.0 && cos_om > 0.0 && !self.is_delta();
+        if ok { value } else { Vec3::ZERO }
     }
 
     /// Solid-angle density with which [`Self::sample`] returns `wi` for the technique:
@@ -179,31 +226,8 @@ impl GgxConductor {
                     Sampling::Bounded => d.sample_wm_bounded(wo, u),
                     _ => d.sample_wm_vndf(wo, u),
                 };
-                let cos_om = wo.dot(wm);
-                if !(cos_om > 0.0) {
-                    return None;
-                }
-                let wi = normalize_or_zero(reflect(wo, wm));
-                if !(wi.z > 0.0) {
-                    return None;
-                }
-                // Weight and pdf from the half vector of the returned pair, so that they agree
-                // with eval(wo, wi) / pdf(wo, wi) even where reflect() cancels at grazing angles.
-                let wm = normalize_or_zero(wo + wi);
-                let cos_om = wo.dot(wm);
-                let so = d.stretched_len(wo);
-                let denom = g2_denominator(d, wo, wi, so);
-                let (pdf, scale) = match sampling {
-                    Sampling::Ndf => (d.pdf_wm_ndf(wm) / (4.0 * cos_om), 4.0 * wi.z * cos_om / (wm.z * denom)),
-                    Sampling::Bounded => {
-                        let c = d.bounded_k(wo) * wo.z + so;
-                        // <= 1 analytically (k <= 1, zi <= si); the min guards subnormal rounding.
-                        (d.d(wm) / (2.0 * c), (2.0 * wi.z * c / denom).min(1.0))
-                    }
-                    // G2 / G1(wo) <= 1.
-                    _ => (d.d(wm) / (2.0 * (wo.z + so)), (2.0 * wi.z * (wo.z + so) / denom).min(1.0)),
-                };
-                (wi, pdf, self.fresnel.eval(cos_om) * scale)
+                let r = reflect_about(d, wo, wm, sampling);
+                (r.wi, r.pdf, self.fresnel.eval(r.cos_om) * r.scale)
             }
         };
         if !(pdf > 0.0 && pdf.is_finite() && weight.is_finite()) {

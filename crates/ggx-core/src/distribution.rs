@@ -84,9 +84,6 @@ impl TrowbridgeReitz {
     /// `D(wm) = 1 / (pi ax ay (x^2/ax^2 + y^2/ay^2 + z^2)^2)`, 0 for `wm.z <= 0`.
     #[inline]
     pub fn d(&self, wm: Vec3) -> f32 {
-        if !(wm.z > 0.0) {
-            return 0.0;
-        }
         let (ax, ay) = self.alphas();
         let t = if self.is_isotropic() {
             (wm.x * wm.x + wm.y * wm.y) / (ax * ax) + wm.z * wm.z
@@ -94,7 +91,9 @@ impl TrowbridgeReitz {
             let (x, y) = (wm.x / ax, wm.y / ay);
             x * x + y * y + wm.z * wm.z
         };
-        finite_or_zero(1.0 / (PI * ax * ay * t * t))
+        // A select, not an early return, so that batch loops over it vectorize.
+        let d = finite_or_zero(1.0 / (PI * ax * ay * t * t));
+        if wm.z > 0.0 { d } else { 0.0 }
     }
 
     /// Smith Lambda, Heitz 2014 eq. 86: `(sqrt(1 + q) - 1) / 2` with

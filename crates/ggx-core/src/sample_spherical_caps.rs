@@ -2,7 +2,7 @@
 //! GGX Normals with Spherical Caps" (HPG 2023).
 
 use crate::TrowbridgeReitz;
-use crate::math::{normalize_or_zero, safe_sqrt, sanitize_u2, sincos_2pi};
+use crate::math::{normalize_or_zero, safe_sqrt, sanitize_u2, sincos_2pi_with};
 use glam::{Vec2, Vec3};
 
 impl TrowbridgeReitz {
@@ -11,21 +11,32 @@ impl TrowbridgeReitz {
     /// Same density as [`Self::sample_wm_vndf`]. Returns zero when `wo.z <= 0`.
     #[inline]
     pub fn sample_wm_spherical_caps(&self, wo: Vec3, u: Vec2) -> Vec3 {
-        if !(wo.z > 0.0) {
-            return Vec3::ZERO;
-        }
+        self.sample_wm_spherical_caps_with::<false>(wo, u)
+    }
+
+    /// [`Self::sample_wm_spherical_caps`], the same bits, with `sincos_2pi_with::<ROUND>`;
+    /// branch-free (both sides computed, then selected), so that `crate::batch` vectorizes it.
+    #[inline(always)]
+    pub(crate) fn sample_wm_spherical_caps_with<const ROUND: bool>(&self, wo: Vec3, u: Vec2) -> Vec3 {
         let (ax, ay) = self.alphas();
         let vh = normalize_or_zero(Vec3::new(ax * wo.x, ay * wo.y, wo.z));
-        self.sample_cap(vh, vh.z, u)
+        let wm = self.sample_cap_with::<ROUND>(vh, vh.z, u);
+        if wo.z > 0.0 { wm } else { Vec3::ZERO }
     }
 
     /// Uniform point on the cap `z in [-lower, 1]` of the unit sphere, offset by `vh` and
     /// unstretched: shared by the spherical-cap and bounded samplers.
     #[inline(always)]
     pub(crate) fn sample_cap(&self, vh: Vec3, lower: f32, u: Vec2) -> Vec3 {
+        self.sample_cap_with::<false>(vh, lower, u)
+    }
+
+    /// [`Self::sample_cap`] with `sincos_2pi_with::<ROUND>` (the same bits either way).
+    #[inline(always)]
+    fn sample_cap_with<const ROUND: bool>(&self, vh: Vec3, lower: f32, u: Vec2) -> Vec3 {
         let u = sanitize_u2(u);
         let (ax, ay) = self.alphas();
-        let (sin_phi, cos_phi) = sincos_2pi(u.x);
+        let (sin_phi, cos_phi) = sincos_2pi_with::<ROUND>(u.x);
         let t = (1.0 - u.y) * (1.0 + lower);
         let z = t - lower;
         let sin_theta = safe_sqrt(1.0 - z * z);
