@@ -130,7 +130,8 @@ fn sample_vndf_lanes<const ROUND: bool>(
         let wo = crate::math::normalize_or_zero(Vec3::new(ox[i], oy[i], oz[i]));
         let wm = dist.sample_wm_spherical_caps_with::<ROUND>(wo, Vec2::new(u0[i], u1[i]));
         let r = reflect_about(dist, wo, wm, Sampling::SphericalCaps);
-        let ok = !delta && wo.z > 0.0 && r.pdf > 0.0;
+        // reflect_about's pdf is 0 for every invalid lane (wm = 0 where wo.z <= 0).
+        let ok = !delta && r.pdf > 0.0;
         ix[i] = if ok { r.wi.x } else { 0.0 };
         iy[i] = if ok { r.wi.y } else { 0.0 };
         iz[i] = if ok { r.wi.z } else { 0.0 };

@@ -79,16 +79,16 @@ pub(crate) struct Reflected {
     pub wi: Vec3,
     /// Its density under the technique; zero where the sample is invalid.
     pub pdf: f32,
-    /// The weight divided by the Fresnel term, `<= 1` (for VNDF `G2 / G1(wo)`).
+    /// The weight divided by the Fresnel term (for VNDF `G2 / G1(wo) <= 1`).
     pub scale: f32,
     /// `wo . wm` at the half vector of the returned pair: the Fresnel term's argument.
     pub cos_om: f32,
 }
 
-/// `wi = reflect(wo, wm)` for a normal `wm` sampled by `sampling` at a unit `wo` with
-/// `wo.z > 0`, with its density and weight / F (closed forms that never divide by `D`: VNDF
+/// `wi = reflect(wo, wm)` for a normal `wm` sampled by `sampling` at a unit `wo`, with its density and weight / F (closed forms that never divide by `D`: VNDF
 /// `G2 / G1(wo)`, bounded `zi (k zo + so) / (zi so + zo si)`, NDF `G2 |wo.wm| / (zo wm.z)`).
-/// Invalid (zero `wi` and pdf) where `wm` faces away from `wo`, `wi` falls at or below the
+/// Invalid (zero `wi` and pdf) where `wm` faces away from `wo` or is zero (what the samplers
+/// return for `wo.z <= 0`), `wi` falls at or below the
 /// horizon, or the density is not finite and positive. Branch-free but for the uniform
 /// `sampling`, so that `crate::batch` runs this very function on each lane.
 #[inline(always)]

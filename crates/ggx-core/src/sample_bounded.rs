@@ -29,7 +29,7 @@ impl TrowbridgeReitz {
         }
         let (ax, ay) = self.alphas();
         let vh = normalize_or_zero(Vec3::new(ax * wo.x, ay * wo.y, wo.z));
-        self.sample_cap(vh, self.bounded_k(wo) * vh.z, u)
+        self.sample_cap::<false>(vh, self.bounded_k(wo) * vh.z, u)
     }
 
     /// Eto & Tokuyoshi 2023 eq. 8, density of the reflected direction for `wo.z > 0`:

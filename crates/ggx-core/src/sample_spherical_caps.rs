@@ -20,20 +20,15 @@ impl TrowbridgeReitz {
     pub(crate) fn sample_wm_spherical_caps_with<const ROUND: bool>(&self, wo: Vec3, u: Vec2) -> Vec3 {
         let (ax, ay) = self.alphas();
         let vh = normalize_or_zero(Vec3::new(ax * wo.x, ay * wo.y, wo.z));
-        let wm = self.sample_cap_with::<ROUND>(vh, vh.z, u);
+        let wm = self.sample_cap::<ROUND>(vh, vh.z, u);
         if wo.z > 0.0 { wm } else { Vec3::ZERO }
     }
 
     /// Uniform point on the cap `z in [-lower, 1]` of the unit sphere, offset by `vh` and
-    /// unstretched: shared by the spherical-cap and bounded samplers.
+    /// unstretched: shared by the spherical-cap and bounded samplers. `ROUND`: floors for
+    /// `sincos_2pi_with` (the same bits either way).
     #[inline(always)]
-    pub(crate) fn sample_cap(&self, vh: Vec3, lower: f32, u: Vec2) -> Vec3 {
-        self.sample_cap_with::<false>(vh, lower, u)
-    }
-
-    /// [`Self::sample_cap`] with `sincos_2pi_with::<ROUND>` (the same bits either way).
-    #[inline(always)]
-    fn sample_cap_with<const ROUND: bool>(&self, vh: Vec3, lower: f32, u: Vec2) -> Vec3 {
+    pub(crate) fn sample_cap<const ROUND: bool>(&self, vh: Vec3, lower: f32, u: Vec2) -> Vec3 {
         let u = sanitize_u2(u);
         let (ax, ay) = self.alphas();
         let (sin_phi, cos_phi) = sincos_2pi_with::<ROUND>(u.x);
