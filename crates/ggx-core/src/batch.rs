@@ -125,21 +125,34 @@ fn sample_vndf_lanes<const ROUND: bool>(
     let (ox, oy, oz, u0, u1) = (&wo.x[..n], &wo.y[..n], &wo.z[..n], &u0[..n], &u1[..n]);
     let (ix, iy, iz, pdf) = (&mut wi.x[..n], &mut wi.y[..n], &mut wi.z[..n], &mut pdf[..n]);
     let delta = dist.is_effectively_smooth();
+    // The valid lanes are counted in u32 per chunk: a usize counter makes LLVM pick 8-lane
+    // vectors on AVX-512 (16 i64 lanes take two registers), a u32 one 16 lanes (+40-60 %).
     let mut valid = 0usize;
-    for i in 0..n {
-        let wo = crate::math::normalize_or_zero(Vec3::new(ox[i], oy[i], oz[i]));
-        let wm = dist.sample_wm_spherical_caps_with::<ROUND>(wo, Vec2::new(u0[i], u1[i]));
-        let r = reflect_about(dist, wo, wm, Sampling::SphericalCaps);
-        // reflect_about's pdf is 0 for every invalid lane (wm = 0 where wo.z <= 0).
-        let ok = !delta && r.pdf > 0.0;
-        ix[i] = if ok { r.wi.x } else { 0.0 };
-        iy[i] = if ok { r.wi.y } else { 0.0 };
-        iz[i] = if ok { r.wi.z } else { 0.0 };
-        pdf[i] = if ok { r.pdf } else { 0.0 };
-        valid += ok as usize;
+    let mut start = 0;
+    while start < n {
+        let end = n.min(start.saturating_add(COUNT_CHUNK));
+        let mut count = 0u32;
+        for i in start..end {
+            let wo = crate::math::normalize_or_zero(Vec3::new(ox[i], oy[i], oz[i]));
+            let wm = dist.sample_wm_spherical_caps_with::<ROUND>(wo, Vec2::new(u0[i], u1[i]));
+            let r = reflect_about(dist, wo, wm, Sampling::SphericalCaps);
+            // reflect_about's pdf is 0 for every invalid lane (wm = 0 where wo.z <= 0).
+            let ok = !delta && r.pdf > 0.0;
+            ix[i] = if ok { r.wi.x } else { 0.0 };
+            iy[i] = if ok { r.wi.y } else { 0.0 };
+            iz[i] = if ok { r.wi.z } else { 0.0 };
+            pdf[i] = if ok { r.pdf } else { 0.0 };
+            count += ok as u32;
+        }
+        valid += count as usize;
+        start = end;
     }
     valid
 }
+
+/// Lanes per `u32` count in [`sample_vndf_lanes`] (far below `u32::MAX`); the tests use a
+/// small chunk so that their batches cross chunk boundaries.
+const COUNT_CHUNK: usize = if cfg!(test) { 1000 } else { 1 << 20 };
 
 /// `f(wo, wi) |wi.z|` for a batch, written to `out` as RGB: [`GgxConductor::eval`]'s values
 /// bit for bit, for any input. Processes `min` of all lengths.
