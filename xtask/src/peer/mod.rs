@@ -16,6 +16,7 @@
 
 mod driver;
 mod ggx_side;
+mod goals;
 mod images;
 mod metrics;
 mod microbench;

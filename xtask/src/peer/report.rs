@@ -277,6 +277,7 @@ pub fn markdown(run: &Run, scenes: &[SceneReport], micro: &MicroReport, checks: 
         secs(run.seconds)
     );
     summary_table(&mut md, run, scenes);
+    super::goals::section(&mut md, &super::goals::goals(scenes, run.threads, micro), run.threads);
     method(&mut md, run);
     for s in scenes {
         scene_section(&mut md, run, s);
@@ -523,7 +524,7 @@ fn micro_section(md: &mut String, m: &MicroReport) {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::super::series::Config;
     use super::*;
 
@@ -542,7 +543,7 @@ mod tests {
         Series { config: Config { renderer, threads, max_spp: 8 }, rungs }
     }
 
-    fn scene() -> SceneReport {
+    pub(in crate::peer) fn scene() -> SceneReport {
         SceneReport {
             name: "s".into(),
             file: "scenes/peer/s.toml".into(),
