@@ -5,8 +5,9 @@
 use std::fmt::Write as _;
 
 use super::metrics;
-use super::report::{MicroReport, SceneReport};
-use super::series::{Renderer, Series};
+use super::microbench::BATCH_VNDF;
+use super::report::{MicroReport, SceneReport, find};
+use super::series::Renderer;
 
 /// One goal on one scene (or on the micro-benchmark).
 #[derive(Clone, Debug, PartialEq)]
@@ -37,11 +38,7 @@ pub const SCALAR_THROUGHPUT: f64 = 3.0;
 /// Equal-time efficiency `(relMSE x s)_Mitsuba / (relMSE x s)_ggx` at least this.
 pub const EFFICIENCY: f64 = 2.0;
 /// Batch VNDF sampling: Mitsuba's per-core rate ÷ ggx-core's at most this.
-pub const BATCH_VNDF: f64 = 2.0;
-
-fn find(series: &[Series], renderer: Renderer, threads: usize) -> Option<&Series> {
-    series.iter().find(|s| s.config.renderer == renderer && s.config.threads == threads)
-}
+pub const BATCH_VNDF_RATIO: f64 = 2.0;
 
 /// The goals of every scene at `threads` threads, then the micro-benchmark's.
 pub fn goals(scenes: &[SceneReport], threads: usize, micro: &MicroReport) -> Vec<Goal> {
@@ -69,18 +66,18 @@ pub fn goals(scenes: &[SceneReport], threads: usize, micro: &MicroReport) -> Vec
             EFFICIENCY,
         ));
     }
-    let ggx = micro.ggx.get("batch/sample_vndf").copied().unwrap_or(f64::NAN);
+    let ggx = micro.ggx.get(BATCH_VNDF.ggx).copied().unwrap_or(f64::NAN);
     let mitsuba = micro
         .mitsuba
         .iter()
         .find(|(t, _)| *t == 1)
-        .and_then(|(_, m)| m.per_second.get("sample_reflect").copied())
+        .and_then(|(_, m)| m.per_second.get(BATCH_VNDF.mitsuba).copied())
         .unwrap_or(f64::NAN);
     out.push(Goal {
         name: "batch VNDF sampling per core, Mitsuba ÷ ggx-core".into(),
         scene: "micro-benchmark".into(),
         measured: mitsuba / ggx,
-        target: BATCH_VNDF,
+        target: BATCH_VNDF_RATIO,
         at_least: false,
     });
     out
@@ -114,33 +111,17 @@ pub fn section(md: &mut String, goals: &[Goal], threads: usize) {
 mod tests {
     use super::*;
     use crate::peer::driver::Micro;
-    use crate::peer::metrics::Rung;
-    use crate::peer::series::Config;
-
-    fn series(renderer: Renderer, speed: f64, rel: f64) -> Series {
-        let rungs = [1u32, 2, 4, 8]
-            .iter()
-            .map(|&spp| Rung {
-                spp,
-                seconds: f64::from(spp) / speed,
-                jit_seconds: 0.0,
-                camera_samples: u64::from(spp) * 1000,
-                rel_mse: rel / f64::from(spp),
-                rel_mse_trimmed: rel / f64::from(spp),
-            })
-            .collect();
-        Series { config: Config { renderer, threads: 2, max_spp: 8 }, rungs }
-    }
+    use crate::peer::report::tests::{scene, series};
 
     /// ggx at 3x Mitsuba llvm's samples/s and 9x scalar's with the same error per sample (so
     /// 3x llvm's efficiency): every render goal met; the batch sampler 2.5x behind: not met.
     #[test]
     fn ratios_and_verdicts() {
-        let mut scene = super::super::report::tests::scene();
+        let mut scene = scene();
         scene.series = vec![
-            series(Renderer::GgxSobol, 9.0, 0.1),
-            series(Renderer::MitsubaLlvm, 3.0, 0.1),
-            series(Renderer::MitsubaScalar, 1.0, 0.1),
+            series(Renderer::GgxSobol, 2, 9.0, 0.1),
+            series(Renderer::MitsubaLlvm, 2, 3.0, 0.1),
+            series(Renderer::MitsubaScalar, 2, 1.0, 0.1),
         ];
         let micro = MicroReport {
             ggx: [("batch/sample_vndf".to_string(), 1e8)].into_iter().collect(),

@@ -23,15 +23,18 @@ pub struct Op {
     pub mitsuba: &'static str,
 }
 
+/// Batch VNDF sampling, the operation with a speed goal of its own (issue 10).
+pub const BATCH_VNDF: Op = Op {
+    label: "reflected direction + pdf, VNDF (ggx: batch SoA)",
+    ggx: "batch/sample_vndf",
+    mitsuba: "sample_reflect",
+};
+
 /// The rows of the table.
 pub const OPS: [Op; 7] = [
     Op { label: "D(m)", ggx: "scalar/D", mitsuba: "D" },
     Op { label: "visible normal (m, pdf)", ggx: "scalar/sample_wm_vndf", mitsuba: "sample_wm_vndf" },
-    Op {
-        label: "reflected direction + pdf, VNDF (ggx: batch SoA)",
-        ggx: "batch/sample_vndf",
-        mitsuba: "sample_reflect",
-    },
+    BATCH_VNDF,
     Op { label: "f cos, F = 1 (ggx: batch SoA)", ggx: "batch/eval", mitsuba: "eval" },
     Op { label: "f cos, F = 1 (ggx: scalar)", ggx: "scalar/eval", mitsuba: "eval" },
     Op { label: "pdf, VNDF", ggx: "scalar/pdf_vndf", mitsuba: "pdf" },

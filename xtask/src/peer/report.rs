@@ -127,7 +127,7 @@ fn file_name(p: &Path) -> String {
 }
 
 /// The series of `renderer` at `threads`, if measured.
-fn find(series: &[Series], renderer: Renderer, threads: usize) -> Option<&Series> {
+pub(super) fn find(series: &[Series], renderer: Renderer, threads: usize) -> Option<&Series> {
     series.iter().find(|s| s.config.renderer == renderer && s.config.threads == threads)
 }
 
@@ -528,7 +528,7 @@ pub(super) mod tests {
     use super::super::series::Config;
     use super::*;
 
-    fn series(renderer: Renderer, threads: usize, speed: f64, rel: f64) -> Series {
+    pub(in crate::peer) fn series(renderer: Renderer, threads: usize, speed: f64, rel: f64) -> Series {
         let rungs = [1u32, 2, 4, 8]
             .iter()
             .map(|&spp| Rung {
