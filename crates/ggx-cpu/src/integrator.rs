@@ -373,7 +373,7 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
                 && has_env
                 && let Some(env) = &scene.environment
             {
-                let (wi_world, pdf) = env.sample(s.light);
+                let (wi_world, pdf, le) = env.sample_with_radiance(s.light);
                 let pdf_light = p_env * pdf;
                 let wi = frame.to_local(wi_world);
                 if sides_agree(wi, wi_world, ng, transmits) && pdf_light > 0.0 && pdf_light.is_finite() {
@@ -390,7 +390,7 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
                         };
                         if tr != Vec3::ZERO && scene.accel.unoccluded(origin, wi_world, f32::INFINITY) {
                             let w = if use_mis { power_heuristic(1.0, pdf_light, 1.0, bsdf.pdf(wo, wi)) } else { 1.0 };
-                            radiance += beta * f * tr * env.radiance(wi_world) * (w / pdf_light);
+                            radiance += beta * f * tr * le * (w / pdf_light);
                         }
                     }
                 }

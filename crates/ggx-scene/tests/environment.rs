@@ -70,7 +70,15 @@ fn sampled_pdf_matches_pdf() {
         let n = 100_000;
         let mut mismatches = 0;
         for _ in 0..n {
-            let (d, pdf) = map.sample(rng.vec2());
+            let u = rng.vec2();
+            let (d, pdf) = map.sample(u);
+            // The light sample's radiance is the sampled texel's: `sample`'s cell, not the
+            // one found again from the direction.
+            let [col, row] = map.distribution.sample(u).2.map(|i| i as usize);
+            assert_eq!(map.sample_with_radiance(u), (d, pdf, map.texel(col, row)));
+            if map.texel(col, row) != map.radiance(d) {
+                mismatches += 1;
+            }
             assert!((d.length() - 1.0).abs() < 1e-4);
             assert!(pdf > 0.0 && pdf.is_finite());
             assert!(map.radiance(d) != Vec3::ZERO, "sampled a black texel");
@@ -82,7 +90,8 @@ fn sampled_pdf_matches_pdf() {
                 mismatches += 1;
             }
         }
-        // Only directions within float rounding of a texel border may disagree.
+        // Only directions within float rounding of a texel border may disagree (in pdf or
+        // in radiance).
         assert!(mismatches < n / 1000, "{mismatches} mismatches");
     }
 }
@@ -158,6 +167,21 @@ fn nearest_texel_lookup_and_rotation() {
         assert_eq!(map.radiance(world), map.texel(col, row));
         let t = map.texels[row * 32 + col];
         assert_eq!(map.texel(col, row), 2.0 * Vec3::new(t[0], t[1], t[2]));
+        assert_eq!(t[3], map.distribution.cell_pdf(col, row));
+    }
+}
+
+/// The constructor writes each texel's `w`, the cell's sampling density, over whatever the
+/// caller passed (here NaN and a wrong value): the lookups' pdf never depends on it.
+#[test]
+fn texel_w_is_the_cell_density() {
+    let map = random_map(0.0);
+    for w in [f32::NAN, 7.0] {
+        let texels = map.texels.iter().map(|&[r, g, b, _]| [r, g, b, w]).collect();
+        assert_eq!(EnvMap::new(32, 16, texels, 2.0, 0.0).unwrap(), map);
+    }
+    for (i, t) in map.texels.iter().enumerate() {
+        assert_eq!(t[3], map.distribution.cell_pdf(i % 32, i / 32));
     }
 }
 

@@ -22,7 +22,9 @@ pub struct EnvMap {
     pub width: u32,
     /// Rows.
     pub height: u32,
-    /// Row-major linear RGB radiance (`w` unused, 1), row 0 at the top (+y).
+    /// Row-major linear RGB radiance, row 0 at the top (+y); `w` is the cell's sampling
+    /// density [`Distribution2D::cell_pdf`], written by the constructor (whatever was passed
+    /// in), so that a lookup reads radiance and density from one cache line.
     pub texels: Vec<[f32; 4]>,
     /// Multiplier applied to every texel.
     pub scale: f32,
@@ -97,7 +99,7 @@ impl EnvMap {
     pub(crate) fn try_new(
         width: u32,
         height: u32,
-        texels: Vec<[f32; 4]>,
+        mut texels: Vec<[f32; 4]>,
         scale: f32,
         rotation_degrees: f32,
     ) -> Result<Self, TexelError> {
@@ -119,6 +121,9 @@ impl EnvMap {
             })
             .collect();
         let distribution = Distribution2D::new(width, height, &weights).ok_or(TexelError::Size)?;
+        for (i, t) in texels.iter_mut().enumerate() {
+            t[3] = distribution.cell_pdf(i % w, i / w);
+        }
         let rotation = rotation_degrees.to_radians();
         let (to_map, to_world) = (Quat::from_rotation_y(-rotation), Quat::from_rotation_y(rotation));
         Ok(Self { width, height, texels, scale, rotation, distribution, to_map, to_world })
@@ -144,11 +149,16 @@ impl EnvMap {
 
     /// Scaled radiance of texel `(col, row)` (zero outside the map).
     pub fn texel(&self, col: usize, row: usize) -> Vec3 {
-        if col >= self.width as usize {
-            return Vec3::ZERO;
-        }
-        let t = self.texels.get(row * self.width as usize + col).copied().unwrap_or_default();
+        let t = self.record(col, row);
         self.scale * Vec3::new(t[0], t[1], t[2])
+    }
+
+    /// The stored `[r, g, b, cell pdf]` of texel `(col, row)` (zeros outside the map).
+    fn record(&self, col: usize, row: usize) -> [f32; 4] {
+        if col >= self.width as usize {
+            return [0.0; 4];
+        }
+        self.texels.get(row * self.width as usize + col).copied().unwrap_or_default()
     }
 
     /// Radiance seen looking towards unit world `direction` (nearest texel).
@@ -164,16 +174,26 @@ impl EnvMap {
         if sin_theta <= 0.0 {
             return 0.0;
         }
-        self.distribution.cell_pdf(col, row) / (2.0 * PI * PI * sin_theta)
+        self.record(col, row)[3] / (2.0 * PI * PI * sin_theta)
     }
 
     /// Samples a unit world direction from `u` in `[0, 1)^2`; returns it with its
     /// solid-angle pdf (0 only at the poles, where the sample should be discarded).
     pub fn sample(&self, u: Vec2) -> (Vec3, f32) {
+        let (d, pdf, _) = self.sample_with_radiance(u);
+        (d, pdf)
+    }
+
+    /// [`Self::sample`] and the radiance of the sampled texel, read from the same cache line
+    /// as its pdf: what a light sample needs, without mapping the direction back to a texel
+    /// (two inverse trigonometric calls and a second lookup). Along the direction,
+    /// [`Self::radiance`] finds the same texel except within float rounding of its border.
+    pub fn sample_with_radiance(&self, u: Vec2) -> (Vec3, f32, Vec3) {
         let (uv, _, [col, row]) = self.distribution.sample(u);
+        let (col, row) = (col as usize, row as usize);
         let d = uv_to_direction(uv);
         let sin_theta = (PI * uv.y).sin();
-        (self.to_world * d, self.solid_angle_pdf(col as usize, row as usize, sin_theta))
+        (self.to_world * d, self.solid_angle_pdf(col, row, sin_theta), self.texel(col, row))
     }
 
     /// Solid-angle density of [`Self::sample`] producing unit world `direction`.

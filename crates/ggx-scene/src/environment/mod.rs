@@ -51,6 +51,14 @@ impl Environment {
         }
     }
 
+    /// [`Self::sample`] and the radiance along the sampled direction ([`EnvMap::sample_with_radiance`]).
+    pub fn sample_with_radiance(&self, u: Vec2) -> (Vec3, f32, Vec3) {
+        match self {
+            Self::Constant(l) => (uniform_sphere(u), 0.25 * FRAC_1_PI, *l),
+            Self::Map(m) => m.sample_with_radiance(u),
+        }
+    }
+
     /// Solid-angle density of [`Self::sample`] producing unit `direction`.
     pub fn pdf(&self, direction: Vec3) -> f32 {
         match self {

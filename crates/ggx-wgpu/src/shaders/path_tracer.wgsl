@@ -666,8 +666,8 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
                 }
             } else if ENV && has_env {
                 let sample = env_sample(s.light);
-                let wi_world = sample.xyz;
-                let pdf_light = p_env * sample.w;
+                let wi_world = sample.wi;
+                let pdf_light = p_env * sample.pdf;
                 let wi = frame_to_local(frame, wi_world);
                 if sides_agree(wi, wi_world, ng, transmits) && pdf_light > 0.0 && is_finite(pdf_light) {
                     let f = bsdf_eval(m, wo, wi);
@@ -686,7 +686,7 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
                             if use_mis {
                                 w = power_heuristic(1.0, pdf_light, 1.0, bsdf_pdf(m, wo, wi));
                             }
-                            radiance += beta * f * tr * env_radiance(wi_world) * (w / pdf_light);
+                            radiance += beta * f * tr * sample.radiance * (w / pdf_light);
                         }
                     }
                 }

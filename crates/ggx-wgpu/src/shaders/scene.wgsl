@@ -443,7 +443,12 @@ fn env_radiance(dir: vec3<f32>) -> vec3<f32> {
         return params.env_radiance;
     }
     let c = env_cell(quat_rotate(params.env_to_map, dir));
-    let i = params.env_texels + 4u * (c.y * params.env_width + c.x);
+    return env_texel(c.x, c.y);
+}
+
+// EnvMap::texel: scale times the RGB of texel (col, row).
+fn env_texel(col: u32, row: u32) -> vec3<f32> {
+    let i = params.env_texels + 4u * (row * params.env_width + col);
     return params.env_scale * vec3(table[i], table[i + 1u], table[i + 2u]);
 }
 
@@ -457,10 +462,17 @@ fn env_pdf(dir: vec3<f32>) -> f32 {
     return env_solid_angle_pdf(c.x, c.y, sqrt(max_num(1.0 - d.y * d.y, 0.0)));
 }
 
-// Environment::sample: (direction, pdf) in a vec4; uniform sphere, or row then column of the map's Distribution2D.
-fn env_sample(u: vec2<f32>) -> vec4<f32> {
+// A light sample of the environment: direction, solid-angle pdf and the radiance along it.
+struct EnvSample {
+    wi: vec3<f32>,
+    pdf: f32,
+    radiance: vec3<f32>,
+}
+
+// Environment::sample_with_radiance: uniform sphere, or row then column of the map's Distribution2D and that texel.
+fn env_sample(u: vec2<f32>) -> EnvSample {
     if params.env_kind == ENV_CONSTANT {
-        return vec4(uniform_sphere(u), 0.25 * FRAC_1_PI);
+        return EnvSample(uniform_sphere(u), 0.25 * FRAC_1_PI, params.env_radiance);
     }
     let w = params.env_width;
     let h = params.env_height;
@@ -472,7 +484,7 @@ fn env_sample(u: vec2<f32>) -> vec4<f32> {
     let x = min_num((f32(col) + c.du) / f32(w), ONE_MINUS_EPSILON);
     let d = uv_to_direction(vec2(x, y));
     let pdf = env_solid_angle_pdf(col, row, sin(PI * y));
-    return vec4(quat_rotate(params.env_to_world, d), pdf);
+    return EnvSample(quat_rotate(params.env_to_world, d), pdf, env_texel(col, row));
 }
 
 // ---------------------------------------------------------------------------------------------
