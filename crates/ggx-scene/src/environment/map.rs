@@ -149,7 +149,11 @@ impl EnvMap {
 
     /// Scaled radiance of texel `(col, row)` (zero outside the map).
     pub fn texel(&self, col: usize, row: usize) -> Vec3 {
-        let t = self.record(col, row);
+        self.scaled(self.record(col, row))
+    }
+
+    /// The scaled radiance of a stored record.
+    fn scaled(&self, t: [f32; 4]) -> Vec3 {
         self.scale * Vec3::new(t[0], t[1], t[2])
     }
 
@@ -167,14 +171,11 @@ impl EnvMap {
         self.texel(col, row)
     }
 
-    /// Solid-angle density in cell `(col, row)` at polar angle `theta`:
-    /// `p(u, v) / (2 pi^2 sin theta)`, the Jacobian of `(u, v) -> direction` being
-    /// `2 pi^2 sin theta` (PBR 3rd ed., 14.2.4).
-    fn solid_angle_pdf(&self, col: usize, row: usize, sin_theta: f32) -> f32 {
-        if sin_theta <= 0.0 {
-            return 0.0;
-        }
-        self.record(col, row)[3] / (2.0 * PI * PI * sin_theta)
+    /// Scaled radiance and solid-angle density of texel `(col, row)` seen at `sin theta`,
+    /// from one read of its record.
+    fn texel_and_pdf(&self, col: usize, row: usize, sin_theta: f32) -> (Vec3, f32) {
+        let t = self.record(col, row);
+        (self.scaled(t), solid_angle_pdf(t[3], sin_theta))
     }
 
     /// Samples a unit world direction from `u` in `[0, 1)^2`; returns it with its
@@ -192,8 +193,8 @@ impl EnvMap {
         let (uv, _, [col, row]) = self.distribution.sample(u);
         let (col, row) = (col as usize, row as usize);
         let d = uv_to_direction(uv);
-        let sin_theta = (PI * uv.y).sin();
-        (self.to_world * d, self.solid_angle_pdf(col, row, sin_theta), self.texel(col, row))
+        let (radiance, pdf) = self.texel_and_pdf(col, row, (PI * uv.y).sin());
+        (self.to_world * d, pdf, radiance)
     }
 
     /// Solid-angle density of [`Self::sample`] producing unit world `direction`.
@@ -206,9 +207,18 @@ impl EnvMap {
     pub fn radiance_and_pdf(&self, direction: Vec3) -> (Vec3, f32) {
         let d = self.to_map(direction);
         let (col, row) = self.cell(d);
-        let sin_theta = (1.0 - d.y * d.y).max(0.0).sqrt();
-        (self.texel(col, row), self.solid_angle_pdf(col, row, sin_theta))
+        self.texel_and_pdf(col, row, (1.0 - d.y * d.y).max(0.0).sqrt())
     }
+}
+
+/// Solid-angle density of a cell of density `cell_pdf` (over the unit square) at polar angle
+/// `theta`: `p(u, v) / (2 pi^2 sin theta)`, the Jacobian of `(u, v) -> direction` being
+/// `2 pi^2 sin theta` (PBR 3rd ed., 14.2.4); 0 at the poles.
+fn solid_angle_pdf(cell_pdf: f32, sin_theta: f32) -> f32 {
+    if sin_theta <= 0.0 {
+        return 0.0;
+    }
+    cell_pdf / (2.0 * PI * PI * sin_theta)
 }
 
 /// Checks that every texel is finite and non-negative and that its brightest channel times

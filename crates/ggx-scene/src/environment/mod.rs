@@ -45,10 +45,8 @@ impl Environment {
     /// Samples a unit direction from `u` in `[0, 1)^2`; returns it with its solid-angle pdf.
     /// A constant environment is sampled uniformly (`pdf = 1 / (4 pi)`).
     pub fn sample(&self, u: Vec2) -> (Vec3, f32) {
-        match self {
-            Self::Constant(_) => (uniform_sphere(u), 0.25 * FRAC_1_PI),
-            Self::Map(m) => m.sample(u),
-        }
+        let (d, pdf, _) = self.sample_with_radiance(u);
+        (d, pdf)
     }
 
     /// [`Self::sample`] and the radiance along the sampled direction ([`EnvMap::sample_with_radiance`]).

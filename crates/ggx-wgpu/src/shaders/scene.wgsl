@@ -421,7 +421,7 @@ fn env_cell_pdf(col: u32, row: u32) -> f32 {
     return table[params.env_func + row * params.env_width + col] / params.env_marginal_integral;
 }
 
-// EnvMap::solid_angle_pdf: p(u, v) / (2 pi^2 sin theta), 0 at the poles.
+// map.rs solid_angle_pdf of the cell's density: p(u, v) / (2 pi^2 sin theta), 0 at the poles.
 fn env_solid_angle_pdf(col: u32, row: u32, sin_theta: f32) -> f32 {
     if sin_theta <= 0.0 {
         return 0.0;
