@@ -1,5 +1,6 @@
-//! [`Lanes`]: the arithmetic a formula written once needs, implemented for one `f32` and for
-//! glam's `Vec3A` (three `f32` lanes in one SSE/NEON register where the target has one).
+//! [`Lanes`]: the arithmetic a formula written once needs, implemented for one `f32`, for
+//! glam's `Vec3A` (three `f32` lanes in one SSE/NEON register where the target has one) and for
+//! one `f64` (the precision references the tests hold the `f32` results to).
 //!
 //! A formula generic over `Lanes` runs the same IEEE operations in the same order on every
 //! lane (add, subtract, multiply, divide and square root are correctly rounded at any width,
@@ -15,6 +16,9 @@ pub trait Lanes: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = S
     type Mask: Copy;
     /// `x` in every lane.
     fn splat(x: f32) -> Self;
+    /// `x` rounded to the lane type in every lane (constants such as pi: exact for `f64`, the
+    /// nearest `f32` otherwise).
+    fn from_f64(x: f64) -> Self;
     /// Correctly rounded square root ([`crate::math::sqrt`]: NaN for a negative lane).
     fn sqrt(self) -> Self;
     /// `|self|`.
@@ -25,45 +29,139 @@ pub trait Lanes: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = S
     fn eq(self, other: Self) -> Self::Mask;
     /// `self >= other` (false where either is NaN).
     fn ge(self, other: Self) -> Self::Mask;
+    /// `self > other` (false where either is NaN).
+    fn gt(self, other: Self) -> Self::Mask;
+    /// The larger of the two; the other one where one is NaN (`f32::max`'s rule).
+    fn max(self, other: Self) -> Self;
+    /// The smaller of the two; the other one where one is NaN (`f32::min`'s rule).
+    fn min(self, other: Self) -> Self;
+    /// `self` is neither infinite nor NaN.
+    fn is_finite(self) -> Self::Mask;
     /// `self` is NaN.
     fn is_nan(self) -> Self::Mask;
     /// `if_true` where `mask` holds, else `if_false`.
     fn select(mask: Self::Mask, if_true: Self, if_false: Self) -> Self;
+    /// `self` where finite, else 0 ([`crate::math::finite_or_zero`] lane-wise).
+    #[inline(always)]
+    fn finite_or_zero(self) -> Self {
+        Self::select(self.is_finite(), self, Self::splat(0.0))
+    }
 }
 
-impl Lanes for f32 {
-    type Mask = bool;
+/// Three components over [`Lanes`]: one direction (`f32`, `f64`) or one per lane (`Vec3A`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Vec3Lanes<L> {
+    /// x component(s).
+    pub x: L,
+    /// y component(s).
+    pub y: L,
+    /// z component(s).
+    pub z: L,
+}
+
+impl<L: Lanes> Vec3Lanes<L> {
+    /// The vector `(x, y, z)`.
     #[inline(always)]
-    fn splat(x: f32) -> f32 {
-        x
+    pub fn new(x: L, y: L, z: L) -> Self {
+        Self { x, y, z }
     }
+
+    /// `x1 x2 + y1 y2 + z1 z2`, summed left to right (glam's `Vec3::dot` order).
     #[inline(always)]
-    fn sqrt(self) -> f32 {
-        crate::math::sqrt(self)
+    pub fn dot(self, other: Self) -> L {
+        self.x * other.x + self.y * other.y + self.z * other.z
     }
+}
+
+impl From<glam::Vec3> for Vec3Lanes<f32> {
     #[inline(always)]
-    fn abs(self) -> f32 {
-        f32::abs(self)
+    fn from(v: glam::Vec3) -> Self {
+        Self::new(v.x, v.y, v.z)
     }
+}
+
+/// Widened exactly, so an `f64` formula sees the very direction its `f32` twin does.
+impl From<glam::Vec3> for Vec3Lanes<f64> {
     #[inline(always)]
-    fn copysign(self, sign: f32) -> f32 {
-        f32::copysign(self, sign)
+    fn from(v: glam::Vec3) -> Self {
+        Self::new(f64::from(v.x), f64::from(v.y), f64::from(v.z))
     }
-    #[inline(always)]
-    fn eq(self, other: f32) -> bool {
-        self == other
+}
+
+/// `Lanes` for a scalar float type `$t` (one lane, `bool` masks) whose square root is `$sqrt`.
+macro_rules! scalar_lanes {
+    ($t:ty, $sqrt:path) => {
+        impl Lanes for $t {
+            type Mask = bool;
+            #[inline(always)]
+            fn splat(x: f32) -> $t {
+                <$t>::from(x)
+            }
+            #[inline(always)]
+            fn from_f64(x: f64) -> $t {
+                x as $t
+            }
+            #[inline(always)]
+            fn sqrt(self) -> $t {
+                $sqrt(self)
+            }
+            #[inline(always)]
+            fn abs(self) -> $t {
+                <$t>::abs(self)
+            }
+            #[inline(always)]
+            fn copysign(self, sign: $t) -> $t {
+                <$t>::copysign(self, sign)
+            }
+            #[inline(always)]
+            fn eq(self, other: $t) -> bool {
+                self == other
+            }
+            #[inline(always)]
+            fn ge(self, other: $t) -> bool {
+                self >= other
+            }
+            #[inline(always)]
+            fn gt(self, other: $t) -> bool {
+                self > other
+            }
+            #[inline(always)]
+            fn max(self, other: $t) -> $t {
+                <$t>::max(self, other)
+            }
+            #[inline(always)]
+            fn min(self, other: $t) -> $t {
+                <$t>::min(self, other)
+            }
+            #[inline(always)]
+            fn is_finite(self) -> bool {
+                <$t>::is_finite(self)
+            }
+            #[inline(always)]
+            fn is_nan(self) -> bool {
+                <$t>::is_nan(self)
+            }
+            #[inline(always)]
+            fn select(mask: bool, if_true: $t, if_false: $t) -> $t {
+                if mask { if_true } else { if_false }
+            }
+        }
+    };
+}
+
+scalar_lanes!(f32, crate::math::sqrt);
+scalar_lanes!(f64, sqrt_f64);
+
+/// Correctly rounded `f64` square root: the hardware instruction with `std`, `libm::sqrt` without.
+#[inline(always)]
+fn sqrt_f64(x: f64) -> f64 {
+    #[cfg(feature = "std")]
+    {
+        x.sqrt()
     }
-    #[inline(always)]
-    fn ge(self, other: f32) -> bool {
-        self >= other
-    }
-    #[inline(always)]
-    fn is_nan(self) -> bool {
-        f32::is_nan(self)
-    }
-    #[inline(always)]
-    fn select(mask: bool, if_true: f32, if_false: f32) -> f32 {
-        if mask { if_true } else { if_false }
+    #[cfg(not(feature = "std"))]
+    {
+        libm::sqrt(x)
     }
 }
 
@@ -72,6 +170,10 @@ impl Lanes for Vec3A {
     #[inline(always)]
     fn splat(x: f32) -> Vec3A {
         Vec3A::splat(x)
+    }
+    #[inline(always)]
+    fn from_f64(x: f64) -> Vec3A {
+        Vec3A::splat(x as f32)
     }
     #[inline(always)]
     fn sqrt(self) -> Vec3A {
@@ -93,6 +195,24 @@ impl Lanes for Vec3A {
     #[inline(always)]
     fn ge(self, other: Vec3A) -> BVec3A {
         self.cmpge(other)
+    }
+    #[inline(always)]
+    fn gt(self, other: Vec3A) -> BVec3A {
+        self.cmpgt(other)
+    }
+    /// Lane by lane with `f32::max`: the SSE instruction's NaN rule differs.
+    #[inline(always)]
+    fn max(self, other: Vec3A) -> Vec3A {
+        Vec3A::new(self.x.max(other.x), self.y.max(other.y), self.z.max(other.z))
+    }
+    /// Lane by lane with `f32::min`: the SSE instruction's NaN rule differs.
+    #[inline(always)]
+    fn min(self, other: Vec3A) -> Vec3A {
+        Vec3A::new(self.x.min(other.x), self.y.min(other.y), self.z.min(other.z))
+    }
+    #[inline(always)]
+    fn is_finite(self) -> BVec3A {
+        self.is_finite_mask()
     }
     #[inline(always)]
     fn is_nan(self) -> BVec3A {

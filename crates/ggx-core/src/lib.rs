@@ -59,7 +59,7 @@ mod conductor;
 mod conductor_ms;
 mod dielectric;
 mod dielectric_ms;
-mod distribution;
+pub mod distribution;
 pub mod energy;
 pub mod energy_dielectric;
 #[rustfmt::skip]

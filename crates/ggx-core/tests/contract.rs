@@ -12,6 +12,7 @@
 //! asserted exactly.
 
 use ggx_core::batch::{self, Vec3Slices, Vec3SlicesMut};
+use ggx_core::distribution::formulas::{self, Widths};
 use ggx_core::energy::{
     albedo, alpha_coordinate, average_albedo, column_mu, effective_alpha, mu_coordinate, multiple_scattering_fresnel,
     row_alpha,
@@ -22,6 +23,7 @@ use ggx_core::energy_dielectric::{
     eta_coordinate, plastic_base_weight, slice_eta,
 };
 use ggx_core::fresnel::{FresnelParams, fresnel_complex, fresnel_dielectric, fresnel_schlick, kind};
+use ggx_core::lanes::Vec3Lanes;
 use ggx_core::math::{self, ONE_MINUS_EPSILON};
 use ggx_core::mis::{balance_heuristic, power_heuristic};
 use ggx_core::sequence::{
@@ -457,6 +459,32 @@ proptest! {
         let d = t.d_visible(w, wm);
         prop_assert!(ok(d), "{t:?} {w:?} {wm:?} -> {d}");
         prop_assert!(same(d, constructed(t).d_visible(w, wm)));
+    }
+
+    /// The generic formulas take any widths (fields of any bits, either grouping): finite, and
+    /// Lambda never NaN; with the widths `TrowbridgeReitz::widths` makes, non-negative and the
+    /// methods' own bits.
+    #[test]
+    fn distribution_formulas(t in raw_dist(), x in any_f32(), y in any_f32(), isotropic in any::<bool>(), w in dir(), v in dir()) {
+        let (w3, v3) = (w, v);
+        let (w, v) = (Vec3Lanes::from(w), Vec3Lanes::from(v));
+        let a = Widths { x, y, isotropic };
+        for f in [formulas::d(a, w), formulas::g1(a, w), formulas::g2(a, w, v), formulas::d_visible(a, w, v)] {
+            prop_assert!(f.is_finite(), "{a:?} {w:?} {v:?} -> {f}");
+        }
+        prop_assert!(!formulas::lambda(a, w).is_nan(), "{a:?} {w:?}");
+        let a = t.widths();
+        let pairs = [
+            (formulas::d(a, w), t.d(w3)),
+            (formulas::g1(a, w), t.g1(w3)),
+            (formulas::g2(a, w, v), t.g2(w3, v3)),
+            (formulas::d_visible(a, w, v), t.d_visible(w3, v3)),
+        ];
+        for (f, method) in pairs {
+            prop_assert!(ok(f) && same(f, method), "{a:?} {w:?} {v:?} -> {f} vs {method}");
+        }
+        let l = formulas::lambda(a, w);
+        prop_assert!(l >= 0.0 && same(l, t.lambda(w3)), "{a:?} {w:?} -> {l}");
     }
 
     #[test]

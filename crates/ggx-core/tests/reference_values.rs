@@ -1,30 +1,21 @@
 //! D, Lambda, G1, G2 and D_wo against f64 closed forms written in a different form
 //! (the trigonometric one of Walter et al. 2007 and Heitz 2014).
 
+mod support;
 mod util;
 
 use ggx_core::{TrowbridgeReitz, Vec3};
+use support::dielectric_ref::RefDielectric;
 use util::dir;
 
-/// Walter 2007 eq. 33, anisotropic (Heitz 2014 eq. 85): `1 / (pi ax ay cos^4 (1 + tan^2 (cos^2 phi / ax^2 + sin^2 phi / ay^2))^2)`.
+/// Trigonometric `D` (Walter 2007 eq. 33) of the independent f64 reference, at an f32 direction.
 fn d_ref(ax: f64, ay: f64, w: Vec3) -> f64 {
-    let (x, y, z) = (w.x as f64, w.y as f64, w.z as f64);
-    if z <= 0.0 {
-        return 0.0;
-    }
-    let cos2 = z * z / (x * x + y * y + z * z);
-    let tan2 = (1.0 - cos2) / cos2;
-    let r2 = x * x + y * y;
-    let (c2, s2) = if r2 > 0.0 { (x * x / r2, y * y / r2) } else { (1.0, 0.0) };
-    let e = tan2 * (c2 / (ax * ax) + s2 / (ay * ay));
-    1.0 / (std::f64::consts::PI * ax * ay * cos2 * cos2 * (1.0 + e) * (1.0 + e))
+    RefDielectric { ax, ay, eta: 1.5 }.d([w.x as f64, w.y as f64, w.z as f64])
 }
 
-/// Heitz 2014 eq. 86: `Lambda = (-1 + sqrt(1 + alpha(phi)^2 tan^2 theta)) / 2`.
+/// Heitz 2014 eq. 86 as printed, of the independent f64 reference, at an f32 direction.
 fn lambda_ref(ax: f64, ay: f64, w: Vec3) -> f64 {
-    let (x, y, z) = (w.x as f64, w.y as f64, w.z as f64);
-    let a2t2 = (ax * ax * x * x + ay * ay * y * y) / (z * z);
-    (-1.0 + (1.0 + a2t2).sqrt()) / 2.0
+    RefDielectric { ax, ay, eta: 1.5 }.lambda([w.x as f64, w.y as f64, w.z as f64])
 }
 
 fn rel(a: f64, b: f64) -> f64 {

@@ -147,6 +147,12 @@ fn vec3a_lanes_are_f32_lanes() {
             let pick = |m: fn(f32, f32) -> bool| each(&|x, y| if m(x, y) { 1.0 } else { 0.0 });
             assert_eq!(bits(select(Lanes::eq(a, b))), pick(<f32 as Lanes>::eq));
             assert_eq!(bits(select(Lanes::ge(a, b))), pick(<f32 as Lanes>::ge));
+            assert_eq!(bits(select(Lanes::gt(a, b))), pick(<f32 as Lanes>::gt));
+            assert_eq!(bits(select(Lanes::is_finite(a))), pick(|x, _| Lanes::is_finite(x)));
+            assert_eq!(bits(Lanes::max(a, b)), each(&|x, y| Lanes::max(x, y)));
+            assert_eq!(bits(Lanes::min(a, b)), each(&|x, y| Lanes::min(x, y)));
+            assert_eq!(bits(Lanes::finite_or_zero(a)), each(&|x, _| Lanes::finite_or_zero(x)));
+            assert_eq!(bits(<Vec3A as Lanes>::from_f64(core::f64::consts::PI)), [core::f32::consts::PI.to_bits(); 3]);
             assert_eq!(bits(select(Lanes::is_nan(a))), pick(|x, _| Lanes::is_nan(x)));
             assert_eq!(
                 bits(<Vec3A as Lanes>::select(Lanes::ge(a, b), a, b)),

@@ -1003,7 +1003,7 @@ pub(super) fn specs() -> Vec<Spec> {
         floats(&[alpha::alpha_to_roughness(i.a[0])])
     });
 
-    // distribution.rs
+    // distribution/ (formulas.rs)
     let alpha_pairs =
         scalars().into_iter().step_by(3).flat_map(|x| scalars().into_iter().step_by(5).map(move |y| (x, y)));
     s.row(

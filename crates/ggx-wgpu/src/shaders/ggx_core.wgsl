@@ -243,7 +243,7 @@ fn alpha_to_roughness(alpha: f32) -> f32 {
 }
 
 // ---------------------------------------------------------------------------------------------
-// distribution.rs: TrowbridgeReitz
+// distribution/formulas.rs: TrowbridgeReitz
 // ---------------------------------------------------------------------------------------------
 
 // TrowbridgeReitz::new: both alphas clamped to [ALPHA_MIN, ALPHA_MAX].

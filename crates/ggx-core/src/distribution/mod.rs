@@ -1,8 +1,12 @@
 //! The Trowbridge-Reitz (GGX) microfacet distribution and its Smith masking functions.
+//!
+//! The formulas live once, over [`crate::lanes::Lanes`], in [`formulas`]; the methods of
+//! [`TrowbridgeReitz`] are their `f32` instantiation.
+
+pub mod formulas;
 
 use crate::alpha::{DELTA_ALPHA, clamp_alpha};
-use crate::math::{finite_or_zero, sqrt};
-use core::f32::consts::PI;
+use formulas::Widths;
 use glam::Vec3;
 
 /// Anisotropic GGX distribution with widths `alpha_x`, `alpha_y` (clamped to
@@ -46,6 +50,13 @@ impl TrowbridgeReitz {
         (clamp_alpha(self.alpha_x), clamp_alpha(self.alpha_y))
     }
 
+    /// The alphas ([`Self::alphas`]) as [`formulas`] read them.
+    #[inline(always)]
+    pub fn widths(&self) -> Widths<f32> {
+        let (x, y) = self.alphas();
+        Widths { x, y, isotropic: x == y }
+    }
+
     /// True when both alphas ([`Self::alphas`]) are equal, which enables the isotropic fast paths.
     #[inline]
     pub fn is_isotropic(&self) -> bool {
@@ -61,39 +72,18 @@ impl TrowbridgeReitz {
         ax.max(ay) < DELTA_ALPHA
     }
 
-    /// `alpha_x^2 w.x^2 + alpha_y^2 w.y^2`, the squared length of the stretched tangential part.
-    #[inline(always)]
-    pub(crate) fn alpha2_xy(&self, w: Vec3) -> f32 {
-        let (ax, ay) = self.alphas();
-        if self.is_isotropic() {
-            ax * ax * (w.x * w.x + w.y * w.y)
-        } else {
-            let (x, y) = (ax * w.x, ay * w.y);
-            x * x + y * y
-        }
-    }
-
     /// `|(alpha_x w.x, alpha_y w.y, w.z)|`, the length of `w` in the stretched (alpha = 1) space.
     /// Never below `|w.z|`, even where `w.z^2` underflows, so `G1 <= 1` and weights stay bounded.
     #[inline(always)]
     pub(crate) fn stretched_len(&self, w: Vec3) -> f32 {
-        sqrt(w.z * w.z + self.alpha2_xy(w)).max(w.z.abs())
+        formulas::stretched_len(self.widths(), w.into())
     }
 
     /// Normal distribution, Walter et al. 2007 eq. 33 in the quadratic form:
     /// `D(wm) = 1 / (pi ax ay (x^2/ax^2 + y^2/ay^2 + z^2)^2)`, 0 for `wm.z <= 0`.
     #[inline]
     pub fn d(&self, wm: Vec3) -> f32 {
-        let (ax, ay) = self.alphas();
-        let t = if self.is_isotropic() {
-            (wm.x * wm.x + wm.y * wm.y) / (ax * ax) + wm.z * wm.z
-        } else {
-            let (x, y) = (wm.x / ax, wm.y / ay);
-            x * x + y * y + wm.z * wm.z
-        };
-        // A select, not an early return, so that batch loops over it vectorize.
-        let d = finite_or_zero(1.0 / (PI * ax * ay * t * t));
-        if wm.z > 0.0 { d } else { 0.0 }
+        formulas::d(self.widths(), wm.into())
     }
 
     /// Smith Lambda, Heitz 2014 eq. 86: `(sqrt(1 + q) - 1) / 2` with
@@ -107,22 +97,14 @@ impl TrowbridgeReitz {
     /// (`|w.x|` or `|w.y|` above about `1.8e19`).
     #[inline]
     pub fn lambda(&self, w: Vec3) -> f32 {
-        let q = self.alpha2_xy(w) / (w.z * w.z);
-        if q.is_nan() {
-            return 0.0;
-        }
-        if q == f32::INFINITY {
-            return f32::INFINITY;
-        }
-        q / (2.0 * (1.0 + sqrt(1.0 + q)))
+        formulas::lambda(self.widths(), w.into())
     }
 
     /// Smith masking, `G1 = 1 / (1 + Lambda) = 2|z| / (|z| + sqrt(z^2 + ax^2 x^2 + ay^2 y^2))`
     /// (stable at grazing angles, 0 at `z = 0`).
     #[inline]
     pub fn g1(&self, w: Vec3) -> f32 {
-        let z = w.z.abs();
-        finite_or_zero(2.0 * z / (z + self.stretched_len(w))).min(1.0)
+        formulas::g1(self.widths(), w.into())
     }
 
     /// Height-correlated masking-shadowing, Heitz 2014 eq. 99:
@@ -130,8 +112,7 @@ impl TrowbridgeReitz {
     /// with `s = |(ax x, ay y, z)|`.
     #[inline]
     pub fn g2(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let (zo, zi) = (wo.z.abs(), wi.z.abs());
-        finite_or_zero(2.0 * zo * zi / (zi * self.stretched_len(wo) + zo * self.stretched_len(wi))).min(1.0)
+        formulas::g2(self.widths(), wo.into(), wi.into())
     }
 
     /// Separable (uncorrelated) masking-shadowing, `G2 = G1(wo) G1(wi)` (Mitsuba 3's form).
@@ -145,10 +126,6 @@ impl TrowbridgeReitz {
     /// Zero for `w.z <= 0`.
     #[inline]
     pub fn d_visible(&self, w: Vec3, wm: Vec3) -> f32 {
-        if !(w.z > 0.0) {
-            return 0.0;
-        }
-        let cos = w.dot(wm).max(0.0);
-        finite_or_zero(2.0 * self.d(wm) * cos / (w.z + self.stretched_len(w)))
+        formulas::d_visible(self.widths(), w.into(), wm.into())
     }
 }
