@@ -7,13 +7,13 @@
 //! and Rust never fuses a multiply-add), so each `Vec3A` lane holds the `f32` result bit for
 //! bit; branches become [`Lanes::select`]s that compute both sides.
 
-use core::ops::{Add, Div, Mul, Sub};
+use core::ops::{Add, BitAnd, Div, Mul, Sub};
 use glam::{BVec3A, Vec3A};
 
 /// A float or a vector of floats, lane-wise.
 pub trait Lanes: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> {
-    /// Per-lane truth values of a comparison.
-    type Mask: Copy;
+    /// Per-lane truth values of a comparison (`&`: both hold).
+    type Mask: Copy + BitAnd<Output = Self::Mask>;
     /// `x` in every lane.
     fn splat(x: f32) -> Self;
     /// `x` rounded to the lane type in every lane (constants such as pi: exact for `f64`, the
@@ -41,6 +41,10 @@ pub trait Lanes: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = S
     fn is_nan(self) -> Self::Mask;
     /// `if_true` where `mask` holds, else `if_false`.
     fn select(mask: Self::Mask, if_true: Self, if_false: Self) -> Self;
+    /// [`crate::math::normalize_or_zero`]'s rule in every lane: `v` where `|len^2 - 1| <= 2e-6`
+    /// (idempotent), `v / len` where `len^2` is finite and above `1e-30`, else zero. Branches
+    /// for one lane, so a caller skips the square root of a vector already unit.
+    fn normalize_or_zero(v: Vec3Lanes<Self>) -> Vec3Lanes<Self>;
     /// `self` where finite, else 0 ([`crate::math::finite_or_zero`] lane-wise).
     #[inline(always)]
     fn finite_or_zero(self) -> Self {
@@ -70,6 +74,27 @@ impl<L: Lanes> Vec3Lanes<L> {
     #[inline(always)]
     pub fn dot(self, other: Self) -> L {
         self.x * other.x + self.y * other.y + self.z * other.z
+    }
+
+    /// Each component times `s`.
+    #[inline(always)]
+    pub fn scale(self, s: L) -> Self {
+        Self::new(self.x * s, self.y * s, self.z * s)
+    }
+}
+
+impl<L: Lanes> core::ops::Add for Vec3Lanes<L> {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, other: Self) -> Self {
+        Self::new(self.x + other.x, self.y + other.y, self.z + other.z)
+    }
+}
+
+impl From<Vec3Lanes<f32>> for glam::Vec3 {
+    #[inline(always)]
+    fn from(v: Vec3Lanes<f32>) -> Self {
+        glam::Vec3::new(v.x, v.y, v.z)
     }
 }
 
@@ -144,6 +169,17 @@ macro_rules! scalar_lanes {
             #[inline(always)]
             fn select(mask: bool, if_true: $t, if_false: $t) -> $t {
                 if mask { if_true } else { if_false }
+            }
+            #[inline(always)]
+            fn normalize_or_zero(v: Vec3Lanes<$t>) -> Vec3Lanes<$t> {
+                let len2 = v.dot(v);
+                if (len2 - 1.0).abs() <= 2e-6 {
+                    v
+                } else if len2 > 1e-30 && len2.is_finite() {
+                    v.scale(1.0 / $sqrt(len2))
+                } else {
+                    Vec3Lanes::new(0.0, 0.0, 0.0)
+                }
             }
         }
     };
@@ -221,5 +257,12 @@ impl Lanes for Vec3A {
     #[inline(always)]
     fn select(mask: BVec3A, if_true: Vec3A, if_false: Vec3A) -> Vec3A {
         Vec3A::select(mask, if_true, if_false)
+    }
+    /// The `f32` rule lane by lane.
+    #[inline(always)]
+    fn normalize_or_zero(v: Vec3Lanes<Vec3A>) -> Vec3Lanes<Vec3A> {
+        let lane = |i: usize| <f32 as Lanes>::normalize_or_zero(Vec3Lanes::new(v.x[i], v.y[i], v.z[i]));
+        let (a, b, c) = (lane(0), lane(1), lane(2));
+        Vec3Lanes::new(Vec3A::new(a.x, b.x, c.x), Vec3A::new(a.y, b.y, c.y), Vec3A::new(a.z, b.z, c.z))
     }
 }

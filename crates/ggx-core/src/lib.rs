@@ -55,7 +55,7 @@ pub mod alpha;
 pub mod batch;
 mod bxdf;
 pub mod clearcoat;
-mod conductor;
+pub mod conductor;
 mod conductor_ms;
 mod dielectric;
 mod dielectric_ms;

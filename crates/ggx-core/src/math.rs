@@ -56,14 +56,7 @@ pub fn sanitize_u2(u: Vec2) -> Vec2 {
 /// matters where the half vector `wo + wi` cancels at grazing angles).
 #[inline(always)]
 pub fn normalize_or_zero(v: Vec3) -> Vec3 {
-    let len2 = v.length_squared();
-    if (len2 - 1.0).abs() <= 2e-6 {
-        v
-    } else if len2 > 1e-30 && len2.is_finite() {
-        v * (1.0 / sqrt(len2))
-    } else {
-        Vec3::ZERO
-    }
+    <f32 as crate::lanes::Lanes>::normalize_or_zero(v.into()).into()
 }
 
 /// `floor(x)` for `0 <= x < 2^23`, exact, without an integer conversion (a saturating `as` cast

@@ -12,6 +12,7 @@
 //! asserted exactly.
 
 use ggx_core::batch::{self, Vec3Slices, Vec3SlicesMut};
+use ggx_core::conductor::formulas::reflection;
 use ggx_core::distribution::formulas::{self, Widths};
 use ggx_core::energy::{
     albedo, alpha_coordinate, average_albedo, column_mu, effective_alpha, mu_coordinate, multiple_scattering_fresnel,
@@ -485,6 +486,19 @@ proptest! {
         }
         let l = formulas::lambda(a, w);
         prop_assert!(l >= 0.0 && same(l, t.lambda(w3)), "{a:?} {w:?} -> {l}");
+    }
+
+    /// The conductor's generic microfacet factor: finite for any widths and directions; with a
+    /// conductor's own widths and `F = 1`, `eval`'s bits (0 for a delta lobe, which `eval` adds).
+    #[test]
+    fn conductor_formulas_reflection(t in raw_dist(), x in any_f32(), y in any_f32(), isotropic in any::<bool>(), wo in dir(), wi in dir()) {
+        let (o, i) = (Vec3Lanes::from(wo), Vec3Lanes::from(wi));
+        let (f, cos) = reflection(Widths { x, y, isotropic }, o, i);
+        prop_assert!(f.is_finite(), "{f} {cos}");
+        let brdf = GgxConductor { distribution: t, pad: [0; 2], fresnel: Fresnel::One.into() };
+        let (f, _) = reflection(t.widths(), o, i);
+        let expect = if brdf.is_delta() { 0.0 } else { f };
+        prop_assert!(ok(f) && same(expect, brdf.eval(wo, wi).x), "{t:?} {wo:?} {wi:?} -> {f}");
     }
 
     #[test]

@@ -3,9 +3,10 @@
 //! far below `f32` rounding, and used as the reference that bounds the `f32` methods' rounding
 //! error in units of `f32::EPSILON`, down to grazing angles and the extreme alphas.
 
+use ggx_core::conductor::formulas::reflection;
 use ggx_core::distribution::formulas::{self, Widths};
 use ggx_core::lanes::Vec3Lanes;
-use ggx_core::{ALPHA_MAX, ALPHA_MIN, TrowbridgeReitz, Vec3};
+use ggx_core::{ALPHA_MAX, ALPHA_MIN, DELTA_ALPHA, Fresnel, GgxConductor, TrowbridgeReitz, Vec3};
 use std::f64::consts::PI;
 
 type V64 = Vec3Lanes<f64>;
@@ -56,7 +57,7 @@ fn alpha_pairs() -> Vec<(f32, f32)> {
 
 #[test]
 fn f64_formulas_match_closed_forms_to_1e12() {
-    let mut worst = [0.0f64; 5];
+    let mut worst = [0.0f64; 6];
     for (ax, ay) in alpha_pairs() {
         let (ax, ay) = (f64::from(ax), f64::from(ay));
         let a = widths64(ax, ay);
@@ -78,14 +79,39 @@ fn f64_formulas_match_closed_forms_to_1e12() {
                 if dv > 0.0 && w.z > 1e-3 {
                     worst[4] = worst[4].max(rel(formulas::d_visible(a, w, v), dv));
                 }
+                // The conductor's microfacet factor (F = 1): D(h) G2 / (4 zo zi) times zi, `h`
+                // the half vector in polar angles.
+                let h = V64::new(w.x + v.x, w.y + v.y, w.z + v.z);
+                let (th, ph) = ((h.x * h.x + h.y * h.y).sqrt().atan2(h.z), h.y.atan2(h.x));
+                let f = d_closed(ax, ay, th, ph) / (1.0 + l + lv) / (4.0 * w.z);
+                if w.z > 1e-3 && v.z > 1e-3 && f > 0.0 {
+                    worst[5] = worst[5].max(rel(reflection(a, w, v).0, f));
+                }
             }
         }
     }
     println!(
-        "f64 formulas vs closed forms, worst relative error: D {:.1e} Lambda {:.1e} G1 {:.1e} G2 {:.1e} D_w {:.1e}",
-        worst[0], worst[1], worst[2], worst[3], worst[4]
+        "f64 formulas vs closed forms, worst relative error: D {:.1e} Lambda {:.1e} G1 {:.1e} G2 {:.1e} D_w {:.1e} conductor {:.1e}",
+        worst[0], worst[1], worst[2], worst[3], worst[4], worst[5]
     );
     assert!(worst.iter().all(|&e| e < 1e-12), "{worst:?}");
+}
+
+/// The widths `t`'s methods read, widened to `f64` exactly.
+fn widened(t: &TrowbridgeReitz) -> Widths<f64> {
+    let w = t.widths();
+    Widths { x: f64::from(w.x), y: f64::from(w.y), isotropic: w.isotropic }
+}
+
+/// The grid's directions rounded to `f32`, as the `f32` methods see them.
+fn dirs32() -> Vec<Vec3> {
+    angles()
+        .into_iter()
+        .map(|(t, p)| {
+            let v = dir64(t, p);
+            Vec3::new(v.x as f32, v.y as f32, v.z as f32)
+        })
+        .collect()
 }
 
 /// `|f32 - f64| / f64` in units of `f32::EPSILON` (2^-23), the f64 value at the very same
@@ -103,15 +129,7 @@ fn f32_methods_round_within_a_few_eps_of_their_f64_twin() {
     let mut worst = [0.0f64; 6];
     for (ax, ay) in alpha_pairs() {
         let d = TrowbridgeReitz::new(ax, ay);
-        let w32 = d.widths();
-        let a = Widths { x: f64::from(w32.x), y: f64::from(w32.y), isotropic: w32.isotropic };
-        let dirs: Vec<Vec3> = angles()
-            .into_iter()
-            .map(|(t, p)| {
-                let v = dir64(t, p);
-                Vec3::new(v.x as f32, v.y as f32, v.z as f32)
-            })
-            .collect();
+        let (a, dirs) = (widened(&d), dirs32());
         for &w in &dirs {
             let w64 = V64::from(w);
             worst[0] = worst[0].max(eps_error(d.d(w), formulas::d(a, w64)));
@@ -158,4 +176,30 @@ fn f64_formulas_keep_the_special_values() {
     for f in [formulas::d(a, nan), formulas::g1(a, nan), formulas::g2(a, nan, nan), formulas::d_visible(a, nan, nan)] {
         assert!(!f.is_nan());
     }
+}
+
+/// The conductor's `eval` (`F = 1`) against its `f64` twin at the same (widened) directions:
+/// `f |wi.z| = D |wi.z| / (2 (|wi.z| so + |wo.z| si))` from the normalized half vector.
+#[test]
+fn conductor_eval_rounds_within_a_few_eps_of_its_f64_twin() {
+    let mut worst = 0.0f64;
+    let mut compared = 0;
+    for (ax, ay) in alpha_pairs().into_iter().filter(|&(x, y)| x.max(y) >= DELTA_ALPHA) {
+        let brdf = GgxConductor::new(ax, ay, Fresnel::One);
+        let (a, dirs) = (widened(&brdf.distribution), dirs32());
+        for &wo in &dirs {
+            for &wi in &dirs {
+                let (f64_value, _) = reflection(a, V64::from(wo), V64::from(wi));
+                let got = brdf.eval(wo, wi);
+                assert!(got.x == got.y && got.y == got.z, "F = 1 gives grey: {got}");
+                if f64_value > 1e-30 {
+                    worst = worst.max(eps_error(got.x, f64_value));
+                    compared += 1;
+                }
+            }
+        }
+    }
+    println!("conductor eval (F = 1) vs f64 twin over {compared} pairs: worst error {worst:.2} f32 eps");
+    assert!(compared > 50_000, "{compared}");
+    assert!(worst <= 12.0, "{worst} eps");
 }

@@ -152,6 +152,15 @@ fn vec3a_lanes_are_f32_lanes() {
             assert_eq!(bits(Lanes::max(a, b)), each(&|x, y| Lanes::max(x, y)));
             assert_eq!(bits(Lanes::min(a, b)), each(&|x, y| Lanes::min(x, y)));
             assert_eq!(bits(Lanes::finite_or_zero(a)), each(&|x, _| Lanes::finite_or_zero(x)));
+            let n = <Vec3A as Lanes>::normalize_or_zero(crate::lanes::Vec3Lanes::new(a, b, a * b));
+            for lane in 0..3 {
+                let v = glam::Vec3::new(sa[lane], sb[lane], sa[lane] * sb[lane]);
+                let m = crate::math::normalize_or_zero(v);
+                assert_eq!(
+                    [canon(n.x[lane]), canon(n.y[lane]), canon(n.z[lane])],
+                    [canon(m.x), canon(m.y), canon(m.z)]
+                );
+            }
             assert_eq!(bits(<Vec3A as Lanes>::from_f64(core::f64::consts::PI)), [core::f32::consts::PI.to_bits(); 3]);
             assert_eq!(bits(select(Lanes::is_nan(a))), pick(|x, _| Lanes::is_nan(x)));
             assert_eq!(

@@ -1,4 +1,8 @@
 //! The GGX microfacet reflection BRDF (Cook-Torrance with height-correlated Smith G2).
+//!
+//! Its microfacet factor is written once over [`crate::lanes::Lanes`] in [`formulas`].
+
+pub mod formulas;
 
 use crate::fresnel::{Fresnel, FresnelParams};
 use crate::math::{finite_or_zero, normalize_or_zero, sanitize_u2};
@@ -65,11 +69,10 @@ pub struct GgxConductor {
     pub fresnel: FresnelParams,
 }
 
-/// `2 (|wi.z| s(wo) + |wo.z| s(wi))`: the shared denominator of `eval` and every weight,
-/// from `G2 / (4 zo zi) = 1 / (2 (zi so + zo si))`.
+/// [`formulas::g2_denominator`] in `f32`.
 #[inline(always)]
 fn g2_denominator(d: &TrowbridgeReitz, wo: Vec3, wi: Vec3, so: f32) -> f32 {
-    2.0 * (wi.z * so + wo.z * d.stretched_len(wi))
+    formulas::g2_denominator(d.widths(), wo.into(), wi.into(), so)
 }
 
 /// A direction reflected about a sampled microfacet normal ([`reflect_about`]).
@@ -153,16 +156,9 @@ impl GgxConductor {
     /// function on each lane with the Fresnel kind chosen once per batch.
     #[inline(always)]
     pub(crate) fn eval_with(&self, wo: Vec3, wi: Vec3, fresnel: impl Fn(f32) -> Vec3) -> Vec3 {
-        let (wo, wi) = (normalize_or_zero(wo), normalize_or_zero(wi));
-        let wm = normalize_or_zero(wo + wi);
-        let cos_om = wo.dot(wm);
-        let d = &self.distribution;
-        let so = d.stretched_len(wo);
-        let f = d.d(wm) * wi.z / g2_denominator(d, wo, wi, so);
-        let value = fresnel(cos_om) * finite_or_zero(f);
-        // wo.wm = |wo + wi| / 2 >= 0 exactly; rounding can flip it where wo ~ -wi at grazing angles.
-        let ok = wo.z > 0.0 && wi.z > 0.0 && cos_om > 0.0 && !self.is_delta();
-        if ok { value } else { Vec3::ZERO }
+        let (f, cos_om) = formulas::reflection(self.distribution.widths(), wo.into(), wi.into());
+        let value = fresnel(cos_om) * f;
+        if self.is_delta() { Vec3::ZERO } else { value }
     }
 
     /// Solid-angle density with which [`Self::sample`] returns `wi` for the technique:
