@@ -1132,7 +1132,7 @@ pub(super) fn specs() -> Vec<Spec> {
         floats(&v3(k.fresnel.eval(i.c[0])))
     });
 
-    // conductor.rs
+    // conductor/ (mod.rs, formulas.rs)
     let pair_bsdf = || {
         bsdfs_raw().into_iter().flat_map(|k| {
             few_directions().into_iter().flat_map(move |a| few_directions().into_iter().map(move |b| (a, b, k)))

@@ -591,7 +591,7 @@ fn fresnel_params_eval(params: FresnelParams, cos_theta: f32) -> vec3<f32> {
 }
 
 // ---------------------------------------------------------------------------------------------
-// conductor.rs: GgxConductor
+// conductor/ (mod.rs, formulas.rs): GgxConductor
 // ---------------------------------------------------------------------------------------------
 
 // BsdfSample::mis_pdf: +inf for a delta lobe (it wins every MIS weight), else the pdf with
@@ -714,7 +714,7 @@ fn ggx_conductor_sample(bsdf: GgxConductor, wo_in: vec3<f32>, u_in: vec2<f32>, s
         if !(wi.z > 0.0) {
             return none;
         }
-        // Weight and pdf from the half vector of the returned pair (see conductor.rs).
+        // Weight and pdf from the half vector of the returned pair (see conductor/mod.rs).
         let wh = normalize_or_zero(wo + wi);
         let cos_om = dot3(wo, wh);
         let so = stretched_len(dist, wo);
