@@ -69,12 +69,6 @@ pub struct GgxConductor {
     pub fresnel: FresnelParams,
 }
 
-/// [`formulas::g2_denominator`] in `f32`.
-#[inline(always)]
-fn g2_denominator(d: &TrowbridgeReitz, wo: Vec3, wi: Vec3, so: f32) -> f32 {
-    formulas::g2_denominator(d.widths(), wo.into(), wi.into(), so)
-}
-
 /// A direction reflected about a sampled microfacet normal ([`reflect_about`]).
 #[derive(Clone, Copy)]
 pub(crate) struct Reflected {
@@ -103,7 +97,7 @@ pub(crate) fn reflect_about(d: &TrowbridgeReitz, wo: Vec3, wm: Vec3, sampling: S
     let wm = normalize_or_zero(wo + wi);
     let cos_om = wo.dot(wm);
     let so = d.stretched_len(wo);
-    let denom = g2_denominator(d, wo, wi, so);
+    let denom = formulas::g2_denominator(d.widths(), wo.into(), wi.into(), so);
     let (pdf, scale) = match sampling {
         Sampling::Ndf => (d.pdf_wm_ndf(wm) / (4.0 * cos_om), 4.0 * wi.z * cos_om / (wm.z * denom)),
         Sampling::Bounded => {

@@ -60,8 +60,7 @@ impl TrowbridgeReitz {
     /// True when both alphas ([`Self::alphas`]) are equal, which enables the isotropic fast paths.
     #[inline]
     pub fn is_isotropic(&self) -> bool {
-        let (ax, ay) = self.alphas();
-        ax == ay
+        self.widths().isotropic
     }
 
     /// True when the lobe is rendered as a mirror: `max(alpha_x, alpha_y) < DELTA_ALPHA`
