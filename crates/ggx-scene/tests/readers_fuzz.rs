@@ -188,6 +188,17 @@ fn obj_mutations() {
 
 // Regression tests, one per defect of the hostile trial.
 
+/// Found by `obj_mutations` (2026-12-03): a normal index near `2^62` overflowed `tobj`'s
+/// `vn * 3` (a panic in a debug build); it is refused, naming the line, before `tobj` runs.
+#[test]
+fn obj_index_that_would_overflow_the_parser_is_refused() {
+    for face in ["1//1 2//1 3//4611686018427387904", "1/3074457345618258603 2 3", "-9223372036854775808 1 2"] {
+        let text = format!("{}f {face}\n", obj_text(4, 1, &[]));
+        let err = parse_obj_with_limits(&text, &SMALL).unwrap_err();
+        assert!(err.contains("line 13: vertex") && err.contains("outside the"), "{face}: {err}");
+    }
+}
+
 /// A 1x1 uncompressed EXR whose data and display windows (and chunk count, one scan line
 /// per chunk) are patched to declare `w x h`.
 fn exr_declaring(w: i32, h: i32) -> Vec<u8> {

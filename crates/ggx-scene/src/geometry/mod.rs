@@ -1,6 +1,7 @@
 //! Object-space triangle geometry for every shape type, and the affine shape transform.
 
 mod obj;
+mod obj_indices;
 mod primitives;
 mod sphere;
 mod transform;

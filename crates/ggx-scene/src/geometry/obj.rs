@@ -6,6 +6,7 @@ use std::path::Path;
 use glam::Vec3;
 
 use super::Geometry;
+use super::obj_indices::check_face_indices;
 use crate::limits::{Limit, Limits, ReadError, read_regular_file_within};
 use crate::shorten::short_path;
 
@@ -29,8 +30,8 @@ pub(crate) const OBJ_BYTES_PER_FACE_VERTEX: u64 = 3 * 24;
 
 /// Parses OBJ text into one triangle mesh. Faces are fan-triangulated; vertex normals are
 /// kept when every vertex has one. Material libraries are ignored. Errors on indices out of
-/// range, non-finite positions and meshes without triangles, and on more triangles or
-/// memory than [`Limits::default`] allows.
+/// range (checked before `tobj` reads them, naming the line), non-finite positions and meshes
+/// without triangles, and on more triangles or memory than [`Limits::default`] allows.
 pub fn parse_obj(text: &str) -> Result<Geometry, String> {
     parse_obj_with_limits(text, &Limits::default())
 }
@@ -53,6 +54,7 @@ pub(crate) fn parse_obj_checked(text: &str, limits: &Limits) -> Result<Geometry,
         counts.vertex_lines, counts.face_lines
     );
     limits.check(Limit::Memory, what, counts.parse_bytes(text.len() as u64)).map_err(ReadError::Limit)?;
+    check_face_indices(text).map_err(|e| ReadError::Io(format!("invalid OBJ: {e}")))?;
     parse_obj_unchecked(text).map_err(ReadError::Io)
 }
 
