@@ -7,11 +7,14 @@
 //! and Rust never fuses a multiply-add), so each `Vec3A` lane holds the `f32` result bit for
 //! bit; branches become [`Lanes::select`]s that compute both sides.
 
-use core::ops::{Add, BitAnd, Div, Mul, Sub};
+use crate::math::sincos_2pi_with;
+use core::ops::{Add, BitAnd, Div, Mul, Neg, Sub};
 use glam::{BVec3A, Vec3A};
 
 /// A float or a vector of floats, lane-wise.
-pub trait Lanes: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> {
+pub trait Lanes:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> + Neg<Output = Self>
+{
     /// Per-lane truth values of a comparison (`&`: both hold).
     type Mask: Copy + BitAnd<Output = Self::Mask>;
     /// `x` in every lane.
@@ -45,6 +48,21 @@ pub trait Lanes: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = S
     /// (idempotent), `v / len` where `len^2` is finite and above `1e-30`, else zero. Branches
     /// for one lane, so a caller skips the square root of a vector already unit.
     fn normalize_or_zero(v: Vec3Lanes<Self>) -> Vec3Lanes<Self>;
+    /// `(sin 2 pi u, cos 2 pi u)` of `u = self`, reduced exactly to the fractional part of `|u|`;
+    /// `(+-0, 1)` for NaN and infinities. `f32` lanes: [`crate::math::sincos_2pi`] (`ROUND`
+    /// picks how its floors are taken, the same bits either way); `f64`: libm's `sin` and `cos`.
+    fn sincos_2pi_with<const ROUND: bool>(self) -> (Self, Self);
+    /// `sqrt(max(self, 0))`: never NaN ([`crate::math::safe_sqrt`] is its `f32` instantiation).
+    #[inline(always)]
+    fn safe_sqrt(self) -> Self {
+        self.max(Self::splat(0.0)).sqrt()
+    }
+    /// A random number clamped into `[0, 1 - 2^-24]`, NaN to 0 ([`crate::math::sanitize_u`] is
+    /// its `f32` instantiation).
+    #[inline(always)]
+    fn sanitize_u(self) -> Self {
+        self.max(Self::splat(0.0)).min(Self::splat(crate::math::ONE_MINUS_EPSILON))
+    }
     /// `self` where finite, else 0 ([`crate::math::finite_or_zero`] lane-wise).
     #[inline(always)]
     fn finite_or_zero(self) -> Self {
@@ -74,6 +92,16 @@ impl<L: Lanes> Vec3Lanes<L> {
     #[inline(always)]
     pub fn dot(self, other: Self) -> L {
         self.x * other.x + self.y * other.y + self.z * other.z
+    }
+
+    /// `self x other`, each component in glam's `Vec3::cross` order (the same bits).
+    #[inline(always)]
+    pub fn cross(self, other: Self) -> Self {
+        Self::new(
+            self.y * other.z - other.y * self.z,
+            self.z * other.x - other.z * self.x,
+            self.x * other.y - other.x * self.y,
+        )
     }
 
     /// Each component times `s`.
@@ -115,7 +143,7 @@ impl From<glam::Vec3> for Vec3Lanes<f64> {
 
 /// `Lanes` for a scalar float type `$t` (one lane, `bool` masks) whose square root is `$sqrt`.
 macro_rules! scalar_lanes {
-    ($t:ty, $sqrt:path) => {
+    ($t:ty, $sqrt:path, $sincos:ident) => {
         impl Lanes for $t {
             type Mask = bool;
             #[inline(always)]
@@ -181,12 +209,29 @@ macro_rules! scalar_lanes {
                     Vec3Lanes::new(0.0, 0.0, 0.0)
                 }
             }
+            #[inline(always)]
+            fn sincos_2pi_with<const ROUND: bool>(self) -> ($t, $t) {
+                $sincos::<ROUND>(self)
+            }
         }
     };
 }
 
-scalar_lanes!(f32, crate::math::sqrt);
-scalar_lanes!(f64, sqrt_f64);
+scalar_lanes!(f32, crate::math::sqrt, sincos_2pi_with);
+scalar_lanes!(f64, sqrt_f64, sincos_2pi_f64);
+
+/// `(sin 2 pi u, cos 2 pi u)` in `f64`: `u` reduced exactly to `v = |u| - floor(|u|)` (0 for
+/// `|u| >= 2^52`, infinities and NaN), then libm's `sin(2 pi v)`, `cos(2 pi v)`, the sign of `u`
+/// on the sine. `ROUND` has no meaning here (it is [`Lanes::sincos_2pi_with`]'s `f32` knob).
+#[inline(always)]
+fn sincos_2pi_f64<const ROUND: bool>(u: f64) -> (f64, f64) {
+    let a = u.abs();
+    // NaN fails the comparison.
+    let v = if a < 4_503_599_627_370_496.0 { a - libm::floor(a) } else { 0.0 };
+    let x = core::f64::consts::TAU * v;
+    let (s, c) = (libm::sin(x), libm::cos(x));
+    (if u.is_sign_negative() { -s } else { s }, c)
+}
 
 /// Correctly rounded `f64` square root: the hardware instruction with `std`, `libm::sqrt` without.
 #[inline(always)]
@@ -264,5 +309,12 @@ impl Lanes for Vec3A {
         let lane = |i: usize| <f32 as Lanes>::normalize_or_zero(Vec3Lanes::new(v.x[i], v.y[i], v.z[i]));
         let (a, b, c) = (lane(0), lane(1), lane(2));
         Vec3Lanes::new(Vec3A::new(a.x, b.x, c.x), Vec3A::new(a.y, b.y, c.y), Vec3A::new(a.z, b.z, c.z))
+    }
+    /// The `f32` function lane by lane.
+    #[inline(always)]
+    fn sincos_2pi_with<const ROUND: bool>(self) -> (Vec3A, Vec3A) {
+        let f = sincos_2pi_with::<ROUND>;
+        let (a, b, c) = (f(self.x), f(self.y), f(self.z));
+        (Vec3A::new(a.0, b.0, c.0), Vec3A::new(a.1, b.1, c.1))
     }
 }

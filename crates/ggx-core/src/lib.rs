@@ -36,8 +36,9 @@
 //! * [`sequence`]: counter-based and Owen-scrambled Sobol' sample streams that give
 //!   bit-identical numbers on CPU and GPU.
 //! * [`batch`]: slice APIs that the compiler auto-vectorizes.
-//! * [`distribution::formulas`], [`conductor::formulas`]: `D`, Lambda, `G1`, `G2`, `D_w` and the
-//!   conductor's `eval` factor written once over [`lanes::Lanes`]; the methods are their `f32`
+//! * [`distribution::formulas`], [`distribution::samplers`], [`conductor::formulas`]: `D`,
+//!   Lambda, `G1`, `G2`, `D_w`, the four samplers with their densities and the conductor's
+//!   `eval` factor written once over [`lanes::Lanes`]; the methods are their `f32`
 //!   instantiation, and the tests evaluate them in `f64` to bound the `f32` rounding.
 //!
 //! Every function accepts any `f32` (NaN, infinities, subnormals, zero, negative, huge)

@@ -4,6 +4,7 @@
 //! With the `std` feature the square root is the hardware instruction from std; without
 //! it `libm` provides the same correctly rounded result, so both builds agree bit for bit.
 
+use crate::lanes::Lanes;
 use core::f32::consts::TAU;
 use glam::{Vec2, Vec3};
 
@@ -27,7 +28,7 @@ pub fn sqrt(x: f32) -> f32 {
 /// `sqrt(max(x, 0))`: never NaN (0 for NaN and negative `x`); finite except `safe_sqrt(+inf) = +inf`.
 #[inline(always)]
 pub fn safe_sqrt(x: f32) -> f32 {
-    sqrt(x.max(0.0))
+    Lanes::safe_sqrt(x)
 }
 
 /// `x` if it is finite, else 0.
@@ -40,7 +41,7 @@ pub fn finite_or_zero(x: f32) -> f32 {
 #[inline(always)]
 pub fn sanitize_u(u: f32) -> f32 {
     // f32::max returns the non-NaN operand, so NaN maps to 0.
-    u.max(0.0).min(ONE_MINUS_EPSILON)
+    Lanes::sanitize_u(u)
 }
 
 /// [`sanitize_u`] on both components.

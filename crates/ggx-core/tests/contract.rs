@@ -14,6 +14,7 @@
 use ggx_core::batch::{self, Vec3Slices, Vec3SlicesMut};
 use ggx_core::conductor::formulas::reflection;
 use ggx_core::distribution::formulas::{self, Widths};
+use ggx_core::distribution::samplers;
 use ggx_core::energy::{
     albedo, alpha_coordinate, average_albedo, column_mu, effective_alpha, mu_coordinate, multiple_scattering_fresnel,
     row_alpha,
@@ -486,6 +487,34 @@ proptest! {
         }
         let l = formulas::lambda(a, w);
         prop_assert!(l >= 0.0 && same(l, t.lambda(w3)), "{a:?} {w:?} -> {l}");
+    }
+
+    /// The generic samplers and densities take any widths (fields of any bits, either grouping)
+    /// and any numbers, in `f32` and `f64`: a normal on the upper hemisphere, unit to within
+    /// `normalize_or_zero`'s idempotence window, or zero; finite densities.
+    #[test]
+    fn sampler_formulas(x in any_f32(), y in any_f32(), isotropic in any::<bool>(), wo in dir(), wm in dir(), u in vec2()) {
+        let a = Widths { x, y, isotropic };
+        let (o, m) = (Vec3Lanes::from(wo), Vec3Lanes::from(wm));
+        let samples = [
+            samplers::sample_wm_ndf(a, u.x, u.y),
+            samplers::sample_wm_vndf(a, o, u.x, u.y),
+            samplers::sample_wm_spherical_caps(a, o, u.x, u.y),
+            samplers::sample_wm_bounded(a, o, u.x, u.y),
+        ];
+        for s in samples {
+            prop_assert!(normal_or_zero(s.into()), "{a:?} {wo:?} {u:?} -> {s:?}");
+        }
+        for p in [samplers::pdf_wm_ndf(a, m), samplers::pdf_wi_bounded(a, o, m), samplers::bounded_k(a, o)] {
+            prop_assert!(p.is_finite(), "{a:?} {wo:?} {wm:?} -> {p}");
+        }
+        let a = Widths { x: f64::from(x), y: f64::from(y), isotropic };
+        let (o, m, u0, u1) = (Vec3Lanes::<f64>::from(wo), Vec3Lanes::<f64>::from(wm), f64::from(u.x), f64::from(u.y));
+        for s in [samplers::sample_wm_ndf(a, u0, u1), samplers::sample_wm_vndf(a, o, u0, u1), samplers::sample_wm_bounded(a, o, u0, u1)] {
+            let len = s.dot(s).sqrt();
+            prop_assert!(len == 0.0 || ((len - 1.0).abs() <= 2e-6 && s.z >= 0.0), "{a:?} {wo:?} {u:?} -> {s:?}");
+        }
+        prop_assert!(samplers::pdf_wi_bounded(a, o, m).is_finite() && samplers::pdf_wm_ndf(a, m).is_finite());
     }
 
     /// The conductor's generic microfacet factor: finite for any widths and directions; with a

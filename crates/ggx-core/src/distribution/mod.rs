@@ -4,6 +4,7 @@
 //! [`TrowbridgeReitz`] are their `f32` instantiation.
 
 pub mod formulas;
+pub mod samplers;
 
 use crate::alpha::{DELTA_ALPHA, clamp_alpha};
 use formulas::Widths;

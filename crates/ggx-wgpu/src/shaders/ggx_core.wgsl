@@ -344,7 +344,7 @@ fn d_visible(dist: TrowbridgeReitz, w: vec3<f32>, wm: vec3<f32>) -> f32 {
 }
 
 // ---------------------------------------------------------------------------------------------
-// sample_ndf.rs, sample_vndf.rs, sample_spherical_caps.rs, sample_bounded.rs
+// distribution/samplers.rs (sample_ndf.rs, sample_vndf.rs, sample_spherical_caps.rs, sample_bounded.rs)
 // ---------------------------------------------------------------------------------------------
 
 // wm = normalize(ax sqrt(u0) cos phi, ay sqrt(u0) sin phi, sqrt(1 - u0)), phi = 2 pi u1; Walter et al. 2007 eq. 35-36.
@@ -362,6 +362,9 @@ fn pdf_wm_ndf(dist: TrowbridgeReitz, wm: vec3<f32>) -> f32 {
 }
 
 // Stretch wo, warp a disk sample onto the projected hemisphere, unstretch; Heitz 2018 listing 1.
+// q = sqrt(1 - p1^2) = sqrt((1 - u0) + (r sin phi)^2), (q - r sin phi)(q + r sin phi) = 1 - u0,
+// lift^2 = 1 - p1^2 - p2^2 = (q - r sin phi)(|vh.xy|^2 q / 2 + s^2 (q + r sin phi))
+// (1 - vh.z = |vh.xy|^2 / (1 + vh.z)): no cancellation.
 fn sample_wm_vndf(dist: TrowbridgeReitz, wo: vec3<f32>, u_in: vec2<f32>) -> vec3<f32> {
     if !(wo.z > 0.0) {
         return vec3(0.0);
@@ -374,29 +377,44 @@ fn sample_wm_vndf(dist: TrowbridgeReitz, wo: vec3<f32>, u_in: vec2<f32>) -> vec3
     let lensq = vh.x * vh.x + vh.y * vh.y;
     var t1 = vec3(1.0, 0.0, 0.0);
     if lensq > 0.0 {
-        t1 = vec3(-vh.y, vh.x, 0.0) * (1.0 / sqrt(lensq));
+        let inv_len = 1.0 / sqrt(lensq);
+        t1 = vec3(-vh.y * inv_len, vh.x * inv_len, 0.0);
     }
     let t2 = cross3(vh, t1);
     let r = safe_sqrt(u.x);
     let sc = sincos_2pi(u.y);
     let p1 = r * sc.y;
+    let rs = r * sc.x;
+    let rim = 1.0 - u.x;
+    let q = safe_sqrt(rim + rs * rs);
+    let far = q + abs(rs);
+    let near = rim / far;
+    var q_minus = far;
+    var q_plus = near;
+    if rs >= 0.0 {
+        q_minus = near;
+        q_plus = far;
+    }
     let s = 0.5 * (1.0 + vh.z);
-    let p2 = (1.0 - s) * safe_sqrt(1.0 - p1 * p1) + s * (r * sc.x);
-    let nh = p1 * t1 + p2 * t2 + safe_sqrt(1.0 - p1 * p1 - p2 * p2) * vh;
+    let p2 = (1.0 - s) * q + s * rs;
+    let lift = safe_sqrt(q_minus * (0.5 * lensq * q + s * s * q_plus));
+    let nh = p1 * t1 + p2 * t2 + lift * vh;
     return normalize_or_zero(vec3(a.x * nh.x, a.y * nh.y, max_num(nh.z, 0.0)));
 }
 
-// Uniform point on the cap z in [-lower, 1] plus vh, unstretched; Dupuy & Benyoub 2023.
-// t = (1 - u1)(1 + lower), z = t - lower; h = (sin_theta cos_phi + vh.x, sin_theta sin_phi + vh.y,
-// t + (vh.z - lower)): h.z = z + vh.z without the cancellation as u1 -> 1 (exactly t for caps).
-fn sample_cap(dist: TrowbridgeReitz, vh: vec3<f32>, lower: f32, u_in: vec2<f32>) -> vec3<f32> {
+// vh plus a uniform point on the cap z in [-lower, 1], lower = k vh.z, unstretched; Dupuy &
+// Benyoub 2023. t = (1 - u1)(1 + lower), z = t - lower, without cancellation: 1 - z^2 =
+// u1 ((1 - lower^2) + (1 + lower) t), 1 - lower^2 = |vh.xy|^2 + vh.z^2 (1 - k)(1 + k),
+// h.z = z + vh.z = t + (1 - k) vh.z (exactly t for caps, k = 1).
+fn sample_cap(dist: TrowbridgeReitz, vh: vec3<f32>, k: f32, one_minus_k: f32, u_in: vec2<f32>) -> vec3<f32> {
     let u = sanitize_u2(u_in);
     let a = alphas(dist);
     let sc = sincos_2pi(u.x);
+    let lower = k * vh.z;
+    let one_minus_lower2 = (vh.x * vh.x + vh.y * vh.y) + vh.z * vh.z * (one_minus_k * (1.0 + k));
     let t = (1.0 - u.y) * (1.0 + lower);
-    let z = t - lower;
-    let sin_theta = safe_sqrt(1.0 - z * z);
-    let h = vec3(sin_theta * sc.y + vh.x, sin_theta * sc.x + vh.y, t + (vh.z - lower));
+    let sin_theta = safe_sqrt(u.y * (one_minus_lower2 + (1.0 + lower) * t));
+    let h = vec3(sin_theta * sc.y + vh.x, sin_theta * sc.x + vh.y, t + one_minus_k * vh.z);
     return normalize_or_zero(vec3(a.x * h.x, a.y * h.y, max_num(h.z, 0.0)));
 }
 
@@ -407,17 +425,28 @@ fn sample_wm_spherical_caps(dist: TrowbridgeReitz, wo: vec3<f32>, u: vec2<f32>) 
     }
     let a = alphas(dist);
     let vh = normalize_or_zero(vec3(a.x * wo.x, a.y * wo.y, wo.z));
-    return sample_cap(dist, vh, vh.z, u);
+    return sample_cap(dist, vh, 1.0, 0.0, u);
 }
 
 // k = (1 - a^2) s^2 / (s^2 + a^2 wo.z^2), a = min(ax, ay), s = 1 + |wo.xy|; Eto & Tokuyoshi 2023 eq. 5.
 fn bounded_k(dist: TrowbridgeReitz, wo: vec3<f32>) -> f32 {
+    return bounded_k_and_complement(dist, wo).x;
+}
+
+// (k, 1 - k), 1 - k = a^2 (s^2 + wo.z^2) / (s^2 + a^2 wo.z^2) without cancellation; (0, 1) where k is not finite.
+fn bounded_k_and_complement(dist: TrowbridgeReitz, wo: vec3<f32>) -> vec2<f32> {
     let alpha = alphas(dist);
     let a = min_num(alpha.x, alpha.y);
     let a2 = a * a;
     let s = 1.0 + sqrt(wo.x * wo.x + wo.y * wo.y);
     let s2 = s * s;
-    return finite_or_zero((1.0 - a2) * s2 / (s2 + a2 * wo.z * wo.z));
+    let z2 = wo.z * wo.z;
+    let den = s2 + a2 * z2;
+    let k = (1.0 - a2) * s2 / den;
+    if !is_finite(k) {
+        return vec2(0.0, 1.0);
+    }
+    return vec2(k, a2 * (s2 + z2) / den);
 }
 
 // Spherical cap with lower bound -k vh.z; Eto & Tokuyoshi 2023 listing 1.
@@ -427,7 +456,8 @@ fn sample_wm_bounded(dist: TrowbridgeReitz, wo: vec3<f32>, u: vec2<f32>) -> vec3
     }
     let a = alphas(dist);
     let vh = normalize_or_zero(vec3(a.x * wo.x, a.y * wo.y, wo.z));
-    return sample_cap(dist, vh, bounded_k(dist, wo) * vh.z, u);
+    let k = bounded_k_and_complement(dist, wo);
+    return sample_cap(dist, vh, k.x, k.y, u);
 }
 
 // p(wi) = D(wm) / (2 (k wo.z + |(ax wo.x, ay wo.y, wo.z)|)), 0 for wo.z <= 0; Eto & Tokuyoshi 2023 eq. 8.
