@@ -119,6 +119,14 @@ impl<L: Lanes> core::ops::Add for Vec3Lanes<L> {
     }
 }
 
+impl<L: Lanes> core::ops::Sub for Vec3Lanes<L> {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, other: Self) -> Self {
+        Self::new(self.x - other.x, self.y - other.y, self.z - other.z)
+    }
+}
+
 impl From<Vec3Lanes<f32>> for glam::Vec3 {
     #[inline(always)]
     fn from(v: Vec3Lanes<f32>) -> Self {

@@ -45,10 +45,6 @@ fn sample32(name: &str, t: &TrowbridgeReitz, wo: Vec3, u: Vec2) -> Vec3 {
     }
 }
 
-fn sub(a: V64, b: V64) -> V64 {
-    V64::new(a.x - b.x, a.y - b.y, a.z - b.z)
-}
-
 fn len(v: V64) -> f64 {
     v.dot(v).sqrt()
 }
@@ -70,8 +66,8 @@ fn views() -> Vec<V64> {
 /// `1 / |dwm/du0 x dwm/du1|`: the solid-angle density of the map `u -> wm` at `u`, by central
 /// differences of step `h` (truncation error `O(h^2)`, rounding `O(1e-16 / h)`).
 fn jacobian_density(f: impl Fn(f64, f64) -> V64, u0: f64, u1: f64, h: f64) -> f64 {
-    let d0 = sub(f(u0 + h, u1), f(u0 - h, u1)).scale(1.0 / (2.0 * h));
-    let d1 = sub(f(u0, u1 + h), f(u0, u1 - h)).scale(1.0 / (2.0 * h));
+    let d0 = (f(u0 + h, u1) - f(u0 - h, u1)).scale(1.0 / (2.0 * h));
+    let d1 = (f(u0, u1 + h) - f(u0, u1 - h)).scale(1.0 / (2.0 * h));
     1.0 / len(d0.cross(d1))
 }
 
