@@ -171,5 +171,59 @@ fn dielectric_energy_compensation(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, scalar, batched, energy_compensation, dielectric_energy_compensation);
+/// Light sampling with MIS needs `f` and the BSDF's density of one pair: `eval` then `pdf`
+/// (two half vectors, two `D`), against `eval_pdf` (one), for the peer scenes' gold conductor
+/// (complex Fresnel) and the dielectric (half of the pairs transmit).
+fn eval_and_pdf(c: &mut Criterion) {
+    let v = inputs();
+    let wi_t: Vec<Vec3> =
+        v.wi.iter().enumerate().map(|(i, &w)| if i % 2 == 1 { Vec3::new(w.x, w.y, -w.z) } else { w }).collect();
+    let gold = Fresnel::Conductor { eta: Vec3::new(0.143, 0.374, 1.442), k: Vec3::new(3.983, 2.385, 1.603) };
+    let conductor = GgxConductor::isotropic(0.2, gold);
+    let dielectric = GgxDielectric::isotropic(0.3, 1.5);
+    let (s, mode) = (Sampling::Vndf, TransportMode::Radiance);
+    let mut g = c.benchmark_group("eval_pdf");
+    g.throughput(Throughput::Elements(N as u64));
+    g.bench_function("conductor_eval_then_pdf", |b| {
+        b.iter(|| {
+            v.wo.iter()
+                .zip(&v.wi)
+                .map(|(&o, &i)| conductor.eval(black_box(o), i).x + conductor.pdf(o, i, s))
+                .sum::<f32>()
+        })
+    });
+    g.bench_function("conductor_eval_pdf", |b| {
+        b.iter(|| {
+            v.wo.iter()
+                .zip(&v.wi)
+                .map(|(&o, &i)| {
+                    let (f, pdf) = conductor.eval_pdf(black_box(o), i, s);
+                    f.x + pdf
+                })
+                .sum::<f32>()
+        })
+    });
+    g.bench_function("dielectric_eval_then_pdf", |b| {
+        b.iter(|| {
+            v.wo.iter()
+                .zip(&wi_t)
+                .map(|(&o, &i)| dielectric.eval(black_box(o), i, mode).x + dielectric.pdf(o, i, s, mode))
+                .sum::<f32>()
+        })
+    });
+    g.bench_function("dielectric_eval_pdf", |b| {
+        b.iter(|| {
+            v.wo.iter()
+                .zip(&wi_t)
+                .map(|(&o, &i)| {
+                    let (f, pdf) = dielectric.eval_pdf(black_box(o), i, s, mode);
+                    f.x + pdf
+                })
+                .sum::<f32>()
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, scalar, batched, energy_compensation, dielectric_energy_compensation, eval_and_pdf);
 criterion_main!(benches);

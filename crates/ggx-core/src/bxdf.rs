@@ -79,6 +79,13 @@ pub trait Bxdf {
     fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Vec3;
     /// Solid-angle density of `wi` under `sampling` (0 for a delta lobe or a refused technique).
     fn pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling, mode: TransportMode) -> f32;
+    /// `(eval, pdf)` of one pair in one call, equal to both bit for bit (Mitsuba 3's
+    /// `eval_pdf`): what light sampling with MIS needs. The microfacet lobes override it to
+    /// compute their half vector, `D` and Smith terms once; the default calls both.
+    #[inline]
+    fn eval_pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling, mode: TransportMode) -> (Vec3, f32) {
+        (self.eval(wo, wi, mode), self.pdf(wo, wi, sampling, mode))
+    }
     /// Draws `wi`: `u` picks the microfacet normal, `u_lobe` the lobe (reflection or transmission).
     fn sample(&self, wo: Vec3, u: Vec2, u_lobe: f32, sampling: Sampling, mode: TransportMode) -> Option<BsdfSample>;
     /// The lobes this BSDF has.
@@ -95,6 +102,11 @@ impl Bxdf for GgxConductor {
     #[inline]
     fn pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling, _mode: TransportMode) -> f32 {
         GgxConductor::pdf(self, wo, wi, sampling)
+    }
+
+    #[inline]
+    fn eval_pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling, _mode: TransportMode) -> (Vec3, f32) {
+        GgxConductor::eval_pdf(self, wo, wi, sampling)
     }
 
     #[inline]
@@ -120,6 +132,11 @@ impl Bxdf for GgxConductorMs {
     #[inline]
     fn pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling, _mode: TransportMode) -> f32 {
         GgxConductorMs::pdf(self, wo, wi, sampling)
+    }
+
+    #[inline]
+    fn eval_pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling, _mode: TransportMode) -> (Vec3, f32) {
+        GgxConductorMs::eval_pdf(self, wo, wi, sampling)
     }
 
     #[inline]

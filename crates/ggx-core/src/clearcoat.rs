@@ -171,6 +171,23 @@ impl GltfClearcoat {
         self.base.eval(wo, wi) * self.base_mix(wo.z) + self.coat_lobe().eval(wo, wi) * self.coat_mix(wo.z)
     }
 
+    /// [`Self::eval`] and [`Self::pdf`] in one call, equal to both bit for bit (each lobe's
+    /// `eval_pdf` shares its half-vector terms).
+    #[inline]
+    pub fn eval_pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling) -> (Vec3, f32) {
+        if !(self.coat_weight() > 0.0) {
+            return self.base.eval_pdf(wo, wi, sampling);
+        }
+        let (wo, wi) = (normalize_or_zero(wo), normalize_or_zero(wi));
+        if !(wo.z > 0.0 && wi.z > 0.0) {
+            return (Vec3::ZERO, 0.0);
+        }
+        let (f_base, pdf_base) = self.base.eval_pdf(wo, wi, sampling);
+        let (f_coat, pdf_coat) = self.coat_lobe().eval_pdf(wo, wi, sampling);
+        let p = self.coat_probability(wo.z);
+        (f_base * self.base_mix(wo.z) + f_coat * self.coat_mix(wo.z), p * pdf_coat + (1.0 - p) * pdf_base)
+    }
+
     /// `p_c pdf_coat + (1 - p_c) pdf_base`, `p_c` = [`Self::coat_probability`]`(wo.z)`: the density
     /// of the one-sample MIS mixture [`Self::sample`] (mirror lobes left out); zero unless
     /// `wo.z > 0` and `wi.z > 0`; `base.pdf` bit for bit when the weight is 0.
@@ -249,6 +266,11 @@ impl Bxdf for GltfClearcoat {
     #[inline]
     fn pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling, _mode: TransportMode) -> f32 {
         GltfClearcoat::pdf(self, wo, wi, sampling)
+    }
+
+    #[inline]
+    fn eval_pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling, _mode: TransportMode) -> (Vec3, f32) {
+        GltfClearcoat::eval_pdf(self, wo, wi, sampling)
     }
 
     #[inline]

@@ -112,7 +112,21 @@ impl GgxConductorMs {
     /// technique and `P_ms` = [`Self::ms_probability`]. Zero below the horizon and for a mirror.
     #[inline]
     pub fn pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling) -> f32 {
-        let pdf_ss = self.conductor.pdf(wo, wi, sampling);
+        self.mix_pdf(wo, wi, self.conductor.pdf(wo, wi, sampling))
+    }
+
+    /// [`Self::eval`] and [`Self::pdf`] in one call, equal to both bit for bit (the conductor's
+    /// [`GgxConductor::eval_pdf`] shares its half-vector terms).
+    #[inline]
+    pub fn eval_pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling) -> (Vec3, f32) {
+        let (f_ss, pdf_ss) = self.conductor.eval_pdf(wo, wi, sampling);
+        (f_ss + self.eval_ms(wo, wi), self.mix_pdf(wo, wi, pdf_ss))
+    }
+
+    /// The one-sample mixture's density `(1 - P_ms) pdf_ss + P_ms wi.z / pi` from the
+    /// single-scattering lobe's `pdf_ss` (that alone without compensation).
+    #[inline(always)]
+    fn mix_pdf(&self, wo: Vec3, wi: Vec3, pdf_ss: f32) -> f32 {
         if !self.is_compensated() {
             return pdf_ss;
         }

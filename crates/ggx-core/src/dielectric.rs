@@ -200,10 +200,32 @@ impl GgxDielectric {
             return Vec3::ZERO;
         }
         let Some(h) = self.half(wo, wi) else { return Vec3::ZERO };
+        self.eval_half(wo, wi, &h, mode)
+    }
+
+    /// `f(wo, wi) |wi.z|` for a half vector of normalized `wo`, `wi`:
+    /// `p_lobe D G2 |wo.wm| dwm/dwi / |wo.z|` (`/ eta'^2` for transmitted radiance).
+    #[inline(always)]
+    fn eval_half(&self, wo: Vec3, wi: Vec3, h: &Half, mode: TransportMode) -> Vec3 {
         let d = &self.distribution;
         let dg = d.d(h.wm) * d.g2(wo, wi);
         let f = h.p_lobe * dg * (h.cos_om / wo.z).abs() * h.jacobian * transport_scale(h.reflect, h.etap, mode);
         Vec3::splat(finite_or_zero(f))
+    }
+
+    /// [`Self::eval`] and [`Self::pdf`] of one pair in one call, equal to both bit for bit: the
+    /// generalized half vector, its Fresnel term and Jacobian are computed once (Mitsuba 3's
+    /// `eval_pdf`). For light sampling with MIS, which needs both.
+    #[inline]
+    pub fn eval_pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling, mode: TransportMode) -> (Vec3, f32) {
+        let (wo, wi) = (normalize_or_zero(wo), normalize_or_zero(wi));
+        if self.is_delta() {
+            return (Vec3::ZERO, 0.0);
+        }
+        match self.half(wo, wi) {
+            Some(h) => (self.eval_half(wo, wi, &h, mode), self.pdf_half(wo, &h, sampling)),
+            None => (Vec3::ZERO, 0.0),
+        }
     }
 
     /// Solid-angle density with which [`Self::sample`] returns `wi`:
@@ -319,6 +341,11 @@ impl Bxdf for GgxDielectric {
     #[inline]
     fn pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling, mode: TransportMode) -> f32 {
         GgxDielectric::pdf(self, wo, wi, sampling, mode)
+    }
+
+    #[inline]
+    fn eval_pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling, mode: TransportMode) -> (Vec3, f32) {
+        GgxDielectric::eval_pdf(self, wo, wi, sampling, mode)
     }
 
     #[inline]

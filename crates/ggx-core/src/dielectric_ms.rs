@@ -90,7 +90,20 @@ impl GgxDielectricMs {
     /// normalized.
     #[inline]
     pub fn eval(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> Vec3 {
-        let f = self.dielectric.eval(wo, wi, mode);
+        self.compensate(wo, self.dielectric.eval(wo, wi, mode))
+    }
+
+    /// [`Self::eval`] and [`Self::pdf`] in one call, equal to both bit for bit
+    /// ([`GgxDielectric::eval_pdf`] shares the half-vector terms).
+    #[inline]
+    pub fn eval_pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling, mode: TransportMode) -> (Vec3, f32) {
+        let (f, pdf) = self.dielectric.eval_pdf(wo, wi, sampling, mode);
+        (self.compensate(wo, f), pdf)
+    }
+
+    /// The single-scattering `f |wi.z|` times [`Self::compensation_scale`] when compensated.
+    #[inline(always)]
+    fn compensate(&self, wo: Vec3, f: Vec3) -> Vec3 {
         // Zero (a pair that breaks the side rules, a delta interface) stays zero: skip the lookup.
         if !self.is_compensated() || f == Vec3::ZERO {
             return f;
@@ -141,6 +154,11 @@ impl Bxdf for GgxDielectricMs {
     #[inline]
     fn pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling, mode: TransportMode) -> f32 {
         GgxDielectricMs::pdf(self, wo, wi, sampling, mode)
+    }
+
+    #[inline]
+    fn eval_pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling, mode: TransportMode) -> (Vec3, f32) {
+        GgxDielectricMs::eval_pdf(self, wo, wi, sampling, mode)
     }
 
     #[inline]

@@ -269,6 +269,22 @@ impl GltfMetalRough {
         specular * s + unit3(self.base_color) * (diffuse * wi.z * FRAC_1_PI)
     }
 
+    /// [`Self::eval`] and [`Self::pdf`] in one call, equal to both bit for bit (the specular
+    /// lobe's [`GgxConductor::eval_pdf`] shares its half-vector terms).
+    #[inline]
+    pub fn eval_pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling) -> (Vec3, f32) {
+        let (wo, wi) = (normalize_or_zero(wo), normalize_or_zero(wi));
+        if !(wo.z > 0.0 && wi.z > 0.0) {
+            return (Vec3::ZERO, 0.0);
+        }
+        let cos = wo.dot(normalize_or_zero(wo + wi));
+        let (specular, diffuse) = self.weights(cos);
+        let (s, pdf_s) = self.specular().eval_pdf(wo, wi, sampling);
+        let p = self.specular_probability();
+        let value = specular * s.x + unit3(self.base_color) * (diffuse * wi.z * FRAC_1_PI);
+        (value, p * pdf_s + (1.0 - p) * warp::pdf_cosine_hemisphere(wi))
+    }
+
     /// Solid-angle density of [`Self::sample`], the one-sample MIS mixture
     /// `p_s pdf_s(wi) + (1 - p_s) wi.z / pi` with `pdf_s` = [`GgxConductor::pdf`] of the
     /// specular lobe for the technique (0 for a mirror) and `p_s` = [`Self::specular_probability`].
@@ -333,6 +349,11 @@ impl Bxdf for GltfMetalRough {
     #[inline]
     fn pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling, _mode: TransportMode) -> f32 {
         GltfMetalRough::pdf(self, wo, wi, sampling)
+    }
+
+    #[inline]
+    fn eval_pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling, _mode: TransportMode) -> (Vec3, f32) {
+        GltfMetalRough::eval_pdf(self, wo, wi, sampling)
     }
 
     #[inline]

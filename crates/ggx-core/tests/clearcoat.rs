@@ -717,6 +717,10 @@ proptest! {
         for s in Sampling::ALL {
             let pdf = b.pdf(wo, wi, s);
             prop_assert!(ok(pdf), "pdf {s:?} {pdf}");
+            // eval_pdf is eval and pdf bit for bit, inherent and through the trait.
+            let bits = |(f, p): (Vec3, f32)| (f.to_array().map(f32::to_bits), p.to_bits());
+            prop_assert_eq!(bits(b.eval_pdf(wo, wi, s)), bits((b.eval(wo, wi), pdf)), "{:?}", s);
+            prop_assert_eq!(bits(Bxdf::eval_pdf(&b, wo, wi, s, TransportMode::Radiance)), bits((b.eval(wo, wi), pdf)));
             if let Some(bs) = b.sample(wo, u, u_lobe, s) {
                 prop_assert!((bs.wi.length() - 1.0).abs() < 1e-5, "{s:?} |wi| = {}", bs.wi.length());
                 prop_assert!(bs.wi.z > 0.0, "{s:?} below horizon {:?}", bs.wi);

@@ -813,6 +813,15 @@ proptest! {
         prop_assert!(same(p, Bxdf::pdf(&b, wo, wi, s, m)));
     }
 
+    /// `eval_pdf` is `eval` and `pdf` bit for bit, inherent and through the trait.
+    #[test]
+    fn ggx_dielectric_eval_pdf(b in raw_dielectric(), wo in dir(), wi in dir(), s in sampling(), m in mode()) {
+        let (f, p) = b.eval_pdf(wo, wi, s, m);
+        prop_assert!(same3(f, b.eval(wo, wi, m)) && same(p, b.pdf(wo, wi, s, m)), "{b:?} {wo:?} {wi:?} {s:?}");
+        let (tf, tp) = Bxdf::eval_pdf(&b, wo, wi, s, m);
+        prop_assert!(same3(tf, f) && same(tp, p));
+    }
+
     /// `Some`: unit `wi` off the horizon, weight finite and `>= 0`, pdf finite and in `(0, ...)`
     /// (`<= 1` for a delta sample).
     #[test]
@@ -832,6 +841,11 @@ proptest! {
     fn bxdf_conductor(b in raw_brdf(), wo in dir(), wi in dir(), u in vec2(), ul in any_f32(), s in sampling(), m in mode()) {
         prop_assert!(same3(Bxdf::eval(&b, wo, wi, m), b.eval(wo, wi)));
         prop_assert!(same(Bxdf::pdf(&b, wo, wi, s, m), b.pdf(wo, wi, s)));
+        // eval_pdf is eval and pdf bit for bit, inherent and through the trait.
+        let (f, p) = b.eval_pdf(wo, wi, s);
+        prop_assert!(same3(f, b.eval(wo, wi)) && same(p, b.pdf(wo, wi, s)), "{b:?} {wo:?} {wi:?} {s:?}");
+        let (tf, tp) = Bxdf::eval_pdf(&b, wo, wi, s, m);
+        prop_assert!(same3(tf, f) && same(tp, p));
         prop_assert_eq!(sample_key(Bxdf::sample(&b, wo, u, ul, s, m)), sample_key(b.sample(wo, u, s)));
         let f = Bxdf::flags(&b);
         prop_assert!(f.contains(BxdfFlags::REFLECTION) && !f.is_transmissive() && f.is_delta() == b.is_delta());
@@ -1424,6 +1438,10 @@ proptest! {
     fn bxdf_conductor_ms(m in raw_ms(), wo in dir(), wi in dir(), u in vec2(), ul in any_f32(), s in sampling(), md in mode()) {
         prop_assert!(same3(Bxdf::eval(&m, wo, wi, md), m.eval(wo, wi)));
         prop_assert!(same(Bxdf::pdf(&m, wo, wi, s, md), m.pdf(wo, wi, s)));
+        let (f, p) = m.eval_pdf(wo, wi, s);
+        prop_assert!(same3(f, m.eval(wo, wi)) && same(p, m.pdf(wo, wi, s)), "{m:?} {wo:?} {wi:?} {s:?}");
+        let (tf, tp) = Bxdf::eval_pdf(&m, wo, wi, s, md);
+        prop_assert!(same3(tf, f) && same(tp, p));
         prop_assert_eq!(sample_key(Bxdf::sample(&m, wo, u, ul, s, md)), sample_key(m.sample(wo, u, ul, s)));
         prop_assert_eq!(Bxdf::flags(&m), Bxdf::flags(&m.conductor));
     }
@@ -1587,6 +1605,10 @@ proptest! {
     fn bxdf_dielectric_ms(m in raw_dielectric_ms(), wo in dir(), wi in dir(), u in vec2(), ul in any_f32(), s in sampling(), md in mode()) {
         prop_assert!(same3(Bxdf::eval(&m, wo, wi, md), m.eval(wo, wi, md)));
         prop_assert!(same(Bxdf::pdf(&m, wo, wi, s, md), m.pdf(wo, wi, s, md)));
+        let (f, p) = m.eval_pdf(wo, wi, s, md);
+        prop_assert!(same3(f, m.eval(wo, wi, md)) && same(p, m.pdf(wo, wi, s, md)), "{m:?} {wo:?} {wi:?} {s:?}");
+        let (tf, tp) = Bxdf::eval_pdf(&m, wo, wi, s, md);
+        prop_assert!(same3(tf, f) && same(tp, p));
         prop_assert_eq!(sample_key(Bxdf::sample(&m, wo, u, ul, s, md)), sample_key(m.sample(wo, u, ul, s, md)));
         prop_assert_eq!(Bxdf::flags(&m), Bxdf::flags(&m.dielectric));
     }

@@ -99,6 +99,13 @@ fn sides_agree(wi: Vec3, wi_world: Vec3, ng: Vec3, transmits: bool) -> bool {
     if transmits { side * wi.z > 0.0 } else { wi.z > 0.0 && side > 0.0 }
 }
 
+/// `f |wi.z|` and, with MIS, the BSDF's density of `wi` (`Bsdf::eval_pdf`, one half vector
+/// for both); without MIS the density is not needed and is 0.
+#[inline(always)]
+fn bsdf_eval_pdf(bsdf: &Bsdf, wo: Vec3, wi: Vec3, use_mis: bool) -> (Vec3, f32) {
+    if use_mis { bsdf.eval_pdf(wo, wi) } else { (bsdf.eval(wo, wi), 0.0) }
+}
+
 /// Beer-Lambert transmittance `exp(-sigma t)` of a segment of finite length `t`, 1 in the
 /// channels that do not absorb.
 #[inline(always)]
@@ -347,7 +354,7 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
                     let wi = frame.to_local(wi_world);
                     if cos_l > 0.0 && sides_agree(wi, wi_world, ng, transmits) && dist > 0.0 {
                         let pdf_light = p_area * scene.lights.pdf_area(e) * dist2 / cos_l;
-                        let f = bsdf.eval(wo, wi);
+                        let (f, pdf_bsdf) = bsdf_eval_pdf(&bsdf, wo, wi, use_mis);
                         if f != Vec3::ZERO && pdf_light > 0.0 && pdf_light.is_finite() {
                             counters.shadow_rays += 1;
                             if scene.accel.unoccluded(origin, wi_world, dist * (1.0 - 1e-3)) {
@@ -357,8 +364,7 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
                                 } else {
                                     scene.emission.get(lm).copied().unwrap_or(Vec3::ZERO)
                                 };
-                                let w =
-                                    if use_mis { power_heuristic(1.0, pdf_light, 1.0, bsdf.pdf(wo, wi)) } else { 1.0 };
+                                let w = if use_mis { power_heuristic(1.0, pdf_light, 1.0, pdf_bsdf) } else { 1.0 };
                                 let tr = if DIELECTRIC {
                                     transmittance(segment_medium(&bsdf, sigma, wi.z), dist)
                                 } else {
@@ -377,7 +383,7 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
                 let pdf_light = p_env * pdf;
                 let wi = frame.to_local(wi_world);
                 if sides_agree(wi, wi_world, ng, transmits) && pdf_light > 0.0 && pdf_light.is_finite() {
-                    let f = bsdf.eval(wo, wi);
+                    let (f, pdf_bsdf) = bsdf_eval_pdf(&bsdf, wo, wi, use_mis);
                     if f != Vec3::ZERO {
                         counters.shadow_rays += 1;
                         let origin = if transmits { offset_ray_origin(p, ng * wi.z.signum()) } else { p_out };
@@ -389,7 +395,7 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
                             Vec3::ONE
                         };
                         if tr != Vec3::ZERO && scene.accel.unoccluded(origin, wi_world, f32::INFINITY) {
-                            let w = if use_mis { power_heuristic(1.0, pdf_light, 1.0, bsdf.pdf(wo, wi)) } else { 1.0 };
+                            let w = if use_mis { power_heuristic(1.0, pdf_light, 1.0, pdf_bsdf) } else { 1.0 };
                             radiance += beta * f * tr * le * (w / pdf_light);
                         }
                     }

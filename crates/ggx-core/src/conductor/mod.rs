@@ -161,20 +161,35 @@ impl GgxConductor {
     /// uniform `1 / (2 pi)`. Zero below the horizon and for a delta lobe.
     #[inline]
     pub fn pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling) -> f32 {
-        let (wo, wi) = (normalize_or_zero(wo), normalize_or_zero(wi));
+        self.pdf_of(&formulas::half_terms(self.distribution.widths(), wo.into(), wi.into()), sampling)
+    }
+
+    /// [`Self::eval`] and [`Self::pdf`] of one pair in one call, equal to both bit for bit: the
+    /// half vector, `D(wm)` and `so` are computed once (Mitsuba 3's `eval_pdf`). For light
+    /// sampling with MIS, which needs both.
+    #[inline]
+    pub fn eval_pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling) -> (Vec3, f32) {
+        let a = self.distribution.widths();
+        let t = formulas::half_terms(a, wo.into(), wi.into());
+        let value = self.fresnel.eval(t.cos_om) * formulas::reflection_of(a, &t);
+        (if self.is_delta() { Vec3::ZERO } else { value }, self.pdf_of(&t, sampling))
+    }
+
+    /// [`Self::pdf`] from the shared terms of the pair.
+    #[inline(always)]
+    fn pdf_of(&self, t: &formulas::HalfTerms<f32>, sampling: Sampling) -> f32 {
+        let (wo, wi, wm, cos_om): (Vec3, Vec3, Vec3, f32) = (t.wo.into(), t.wi.into(), t.wm.into(), t.cos_om);
         if !(wo.z > 0.0 && wi.z > 0.0) || self.is_delta() {
             return 0.0;
         }
         let d = &self.distribution;
-        let wm = normalize_or_zero(wo + wi);
-        let cos_om = wo.dot(wm);
         // A back-facing half vector (rounding where wo ~ -wi) is never sampled; eval is 0 there too.
         if !(cos_om > 0.0) && !matches!(sampling, Sampling::Cosine | Sampling::Uniform) {
             return 0.0;
         }
         let pdf = match sampling {
             Sampling::Ndf => d.pdf_wm_ndf(wm) / (4.0 * cos_om),
-            Sampling::Vndf | Sampling::SphericalCaps => d.d(wm) / (2.0 * (wo.z + d.stretched_len(wo))),
+            Sampling::Vndf | Sampling::SphericalCaps => t.d / (2.0 * (wo.z + t.so)),
             Sampling::Bounded => d.pdf_wi_bounded(wo, wm),
             Sampling::Cosine => warp::pdf_cosine_hemisphere(wi),
             Sampling::Uniform => warp::pdf_uniform_hemisphere(wi),
