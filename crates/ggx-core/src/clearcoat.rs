@@ -168,7 +168,21 @@ impl GltfClearcoat {
         if !(wo.z > 0.0 && wi.z > 0.0) {
             return Vec3::ZERO;
         }
-        self.base.eval(wo, wi) * self.base_mix(wo.z) + self.coat_lobe().eval(wo, wi) * self.coat_mix(wo.z)
+        self.mix_f(wo.z, self.base.eval(wo, wi), self.coat_lobe().eval(wo, wi))
+    }
+
+    /// `(1 - c) f_base + c f_coat` for `wo.z` (the lobes' `f |wi.z|`).
+    #[inline(always)]
+    fn mix_f(&self, mu_o: f32, f_base: Vec3, f_coat: Vec3) -> Vec3 {
+        f_base * self.base_mix(mu_o) + f_coat * self.coat_mix(mu_o)
+    }
+
+    /// The mixture density `p_c pdf_coat + (1 - p_c) pdf_base` for `wo.z`.
+    #[inline(always)]
+    fn mix_pdf(&self, mu_o: f32, pdf_base: f32, pdf_coat: f32) -> f32 {
+        let p = self.coat_probability(mu_o);
+        // Both terms finite and non-negative (GgxConductor::pdf, GltfMetalRough::pdf).
+        p * pdf_coat + (1.0 - p) * pdf_base
     }
 
     /// [`Self::eval`] and [`Self::pdf`] in one call, equal to both bit for bit (each lobe's
@@ -184,8 +198,7 @@ impl GltfClearcoat {
         }
         let (f_base, pdf_base) = self.base.eval_pdf(wo, wi, sampling);
         let (f_coat, pdf_coat) = self.coat_lobe().eval_pdf(wo, wi, sampling);
-        let p = self.coat_probability(wo.z);
-        (f_base * self.base_mix(wo.z) + f_coat * self.coat_mix(wo.z), p * pdf_coat + (1.0 - p) * pdf_base)
+        (self.mix_f(wo.z, f_base, f_coat), self.mix_pdf(wo.z, pdf_base, pdf_coat))
     }
 
     /// `p_c pdf_coat + (1 - p_c) pdf_base`, `p_c` = [`Self::coat_probability`]`(wo.z)`: the density
@@ -200,9 +213,7 @@ impl GltfClearcoat {
         if !(wo.z > 0.0 && wi.z > 0.0) {
             return 0.0;
         }
-        let p = self.coat_probability(wo.z);
-        // Both terms finite and non-negative (GgxConductor::pdf, GltfMetalRough::pdf).
-        p * self.coat_lobe().pdf(wo, wi, sampling) + (1.0 - p) * self.base.pdf(wo, wi, sampling)
+        self.mix_pdf(wo.z, self.base.pdf(wo, wi, sampling), self.coat_lobe().pdf(wo, wi, sampling))
     }
 
     /// Draws `wi`: the coat lobe ([`GgxConductor::sample`] from `u`) if `u_lobe < p_c`, else

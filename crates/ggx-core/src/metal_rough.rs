@@ -262,11 +262,25 @@ impl GltfMetalRough {
         if !(wo.z > 0.0 && wi.z > 0.0) {
             return Vec3::ZERO;
         }
+        self.mix_f(wo, wi, self.specular().eval(wo, wi).x)
+    }
+
+    /// `specular_fresnel(|wo.h|) s + diffuse_weight(|wo.h|) base_color wi.z / pi` for normalized
+    /// directions above the horizon, from the specular lobe's `s = specular_brdf |wi.z|`.
+    #[inline(always)]
+    fn mix_f(&self, wo: Vec3, wi: Vec3, s: f32) -> Vec3 {
         // |wo.h|; rounding can make it 0 or negative where wo ~ -wi (fresnel_schlick clamps).
         let cos = wo.dot(normalize_or_zero(wo + wi));
         let (specular, diffuse) = self.weights(cos);
-        let s = self.specular().eval(wo, wi).x;
         specular * s + unit3(self.base_color) * (diffuse * wi.z * FRAC_1_PI)
+    }
+
+    /// The mixture density `p_s pdf_s + (1 - p_s) wi.z / pi` from the specular lobe's `pdf_s`.
+    #[inline(always)]
+    fn mix_pdf(&self, wi: Vec3, pdf_s: f32) -> f32 {
+        let p = self.specular_probability();
+        // Both terms finite and non-negative: GgxConductor::pdf is finite_or_zero, wi.z <= 1.
+        p * pdf_s + (1.0 - p) * warp::pdf_cosine_hemisphere(wi)
     }
 
     /// [`Self::eval`] and [`Self::pdf`] in one call, equal to both bit for bit (the specular
@@ -277,12 +291,8 @@ impl GltfMetalRough {
         if !(wo.z > 0.0 && wi.z > 0.0) {
             return (Vec3::ZERO, 0.0);
         }
-        let cos = wo.dot(normalize_or_zero(wo + wi));
-        let (specular, diffuse) = self.weights(cos);
         let (s, pdf_s) = self.specular().eval_pdf(wo, wi, sampling);
-        let p = self.specular_probability();
-        let value = specular * s.x + unit3(self.base_color) * (diffuse * wi.z * FRAC_1_PI);
-        (value, p * pdf_s + (1.0 - p) * warp::pdf_cosine_hemisphere(wi))
+        (self.mix_f(wo, wi, s.x), self.mix_pdf(wi, pdf_s))
     }
 
     /// Solid-angle density of [`Self::sample`], the one-sample MIS mixture
@@ -295,9 +305,7 @@ impl GltfMetalRough {
         if !(wo.z > 0.0 && wi.z > 0.0) {
             return 0.0;
         }
-        let p = self.specular_probability();
-        // Both terms finite and non-negative: GgxConductor::pdf is finite_or_zero, wi.z <= 1.
-        p * self.specular().pdf(wo, wi, sampling) + (1.0 - p) * warp::pdf_cosine_hemisphere(wi)
+        self.mix_pdf(wi, self.specular().pdf(wo, wi, sampling))
     }
 
     /// Draws `wi`: the specular lobe ([`GgxConductor::sample`] with the technique, from `u`)
