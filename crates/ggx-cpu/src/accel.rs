@@ -1,7 +1,8 @@
 //! Ray-triangle acceleration: a BVH over the scene's world-space triangles (obvhs' binary BVH
 //! collapsed into our 8-wide [`WideBvh`], or obvhs' CWBVH or BVH2 as they are), stored in BVH
 //! leaf order so a leaf's triangles are contiguous in memory, each with the edges and normal
-//! its ray test needs precomputed ([`RayTriangle`]).
+//! its ray test needs precomputed ([`RayTriangle`]); the wide tree's leaves hold them four to a
+//! [`TrianglePacket`], tested together.
 
 use ggx_scene::Triangle;
 use glam::{Vec3, Vec3A};
@@ -12,7 +13,8 @@ use obvhs::ray::{Ray, RayHit};
 use obvhs::triangle::Triangle as BvhTriangle;
 use std::time::{Duration, Instant};
 
-use crate::wide_bvh::WideBvh;
+use crate::ray_triangle::{PACKET_WIDTH, RayTriangle, TrianglePacket};
+use crate::wide_bvh::{Leaf, WideBvh};
 
 /// Which BVH layout to trace against.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -29,9 +31,38 @@ pub enum AccelKind {
 }
 
 enum Tree {
-    Wide(WideBvh),
-    Cw(CwBvh),
-    Binary(Bvh2),
+    /// The wide tree; its leaves index `packets` (a leaf of `count` triangles spans
+    /// `count.div_ceil(PACKET_WIDTH)` packets).
+    Wide {
+        bvh: WideBvh,
+        packets: Vec<TrianglePacket>,
+    },
+    Cw {
+        bvh: CwBvh,
+        primitives: Primitives,
+    },
+    Binary {
+        bvh: Bvh2,
+        primitives: Primitives,
+    },
+}
+
+/// The triangles of an obvhs tree in its primitive order (duplicates where the builder split
+/// triangles), and the scene triangle each one is.
+struct Primitives {
+    ordered: Vec<RayTriangle>,
+    triangle: Vec<u32>,
+}
+
+impl Primitives {
+    fn intersect(&self, ray: &Ray, id: usize) -> f32 {
+        self.ordered.get(id).map_or(f32::INFINITY, |t| t.intersect(ray))
+    }
+
+    /// Triangle `id` and its scene index.
+    fn get(&self, id: usize) -> Option<(RayTriangle, u32)> {
+        Some((*self.ordered.get(id)?, *self.triangle.get(id)?))
+    }
 }
 
 /// A closest hit: triangle index into the scene mesh, distance and barycentrics.
@@ -47,13 +78,9 @@ pub struct Hit {
     pub b2: f32,
 }
 
-/// The BVH plus triangles in leaf order.
+/// The BVH plus its triangles in leaf order.
 pub struct Accel {
     tree: Tree,
-    /// Triangles in BVH primitive order (duplicates where the builder split triangles).
-    ordered: Vec<RayTriangle>,
-    /// Maps a BVH primitive index back to the scene triangle index.
-    primitive_to_triangle: Vec<u32>,
     build_time: Duration,
 }
 
@@ -67,28 +94,31 @@ impl Accel {
             .collect();
         let mut core = Duration::ZERO;
         let params = BvhBuildParams::medium_build();
-        let (tree, indices) = match kind {
+        let primitives = |indices: &[u32]| Primitives {
+            ordered: indices.iter().map(|&i| tris.get(i as usize).map(RayTriangle::new).unwrap_or_default()).collect(),
+            triangle: indices.to_vec(),
+        };
+        let tree = match kind {
             AccelKind::Cwbvh => {
                 let bvh = obvhs::cwbvh::builder::build_cwbvh_from_tris(&tris, params, &mut core);
-                let indices = bvh.primitive_indices.clone();
-                (Tree::Cw(bvh), indices)
+                Tree::Cw { primitives: primitives(&bvh.primitive_indices), bvh }
             }
             AccelKind::Bvh2 => {
                 let bvh = obvhs::bvh2::builder::build_bvh2_from_tris(&tris, params, &mut core);
-                let indices = bvh.primitive_indices.clone();
-                (Tree::Binary(bvh), indices)
+                Tree::Binary { primitives: primitives(&bvh.primitive_indices), bvh }
             }
             AccelKind::Wide => {
                 let bvh = obvhs::bvh2::builder::build_bvh2_from_tris(&tris, params, &mut core);
-                let indices = bvh.primitive_indices.clone();
                 match WideBvh::from_bvh2(&bvh) {
-                    Some(wide) => (Tree::Wide(wide), indices),
-                    None => (Tree::Binary(bvh), indices),
+                    Some(mut wide) => {
+                        let packets = pack_leaves(&mut wide, &tris, &bvh.primitive_indices);
+                        Tree::Wide { bvh: wide, packets }
+                    }
+                    None => Tree::Binary { primitives: primitives(&bvh.primitive_indices), bvh },
                 }
             }
         };
-        let ordered = indices.iter().map(|&i| tris.get(i as usize).map(RayTriangle::new).unwrap_or_default()).collect();
-        Accel { tree, ordered, primitive_to_triangle: indices, build_time: start.elapsed() }
+        Accel { tree, build_time: start.elapsed() }
     }
 
     /// Wall time of [`Accel::build`].
@@ -99,93 +129,115 @@ impl Accel {
     /// Closest hit along `origin + t dir`, `t` in `(0, t_max)`.
     pub fn closest(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Option<Hit> {
         let ray = Ray::new(origin.into(), dir.into(), 0.0, t_max);
-        let mut hit = RayHit::none();
-        let intersect = |r: &Ray, id: usize| self.ordered.get(id).map_or(f32::INFINITY, |t| t.intersect(r));
-        let found = match &self.tree {
-            Tree::Wide(w) => {
-                w.traverse::<true>(&ray, |first, count, t_max| {
-                    for p in first..first.saturating_add(count) {
-                        let t = intersect(&ray, p as usize);
-                        if t < *t_max {
-                            (hit.primitive_id, hit.t, *t_max) = (p, t, t);
-                        }
-                    }
-                    false
-                });
-                hit.t < t_max
+        let (tri, triangle, t) = match &self.tree {
+            Tree::Wide { bvh, packets } => {
+                let mut leaf = ClosestInPackets { packets, ray: &ray, best: None };
+                bvh.traverse::<true>(&ray, &mut leaf);
+                let (k, i, best_t) = leaf.best?;
+                let p = packets.get(k)?;
+                (p.lane(i), *p.triangle.get(i)?, best_t)
             }
-            Tree::Cw(b) => b.ray_traverse(ray, &mut hit, intersect),
-            Tree::Binary(b) => b.ray_traverse(ray, &mut hit, intersect),
+            Tree::Cw { bvh, primitives } => {
+                let mut hit = RayHit::none();
+                if !bvh.ray_traverse(ray, &mut hit, |r, id| primitives.intersect(r, id)) {
+                    return None;
+                }
+                let (tri, index) = primitives.get(hit.primitive_id as usize)?;
+                (tri, index, hit.t)
+            }
+            Tree::Binary { bvh, primitives } => {
+                let mut hit = RayHit::none();
+                if !bvh.ray_traverse(ray, &mut hit, |r, id| primitives.intersect(r, id)) {
+                    return None;
+                }
+                let (tri, index) = primitives.get(hit.primitive_id as usize)?;
+                (tri, index, hit.t)
+            }
         };
-        if !found {
-            return None;
-        }
-        let id = hit.primitive_id as usize;
-        let tri = self.ordered.get(id)?;
-        let (b1, b2) = barycentrics(tri, origin, dir);
-        Some(Hit { triangle: *self.primitive_to_triangle.get(id)?, t: hit.t, b1, b2 })
+        let (b1, b2) = barycentrics(&tri, origin, dir);
+        Some(Hit { triangle, t, b1, b2 })
     }
 
     /// True when nothing blocks `origin + t dir` for `t` in `(0, t_max)` (shadow rays).
     pub fn unoccluded(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
         let ray = Ray::new(origin.into(), dir.into(), 0.0, t_max);
-        let intersect = |r: &Ray, id: usize| self.ordered.get(id).map_or(f32::INFINITY, |t| t.intersect(r));
         match &self.tree {
-            Tree::Wide(w) => {
-                let mut miss = true;
-                w.traverse::<false>(&ray, |first, count, t_max| {
-                    miss = !(first..first.saturating_add(count)).any(|p| intersect(&ray, p as usize) < *t_max);
-                    !miss
-                });
-                miss
+            Tree::Wide { bvh, packets } => {
+                let mut leaf = AnyInPackets { packets, ray: &ray, hit: false };
+                bvh.traverse::<false>(&ray, &mut leaf);
+                !leaf.hit
             }
-            Tree::Cw(b) => b.ray_traverse_miss(ray, intersect),
-            Tree::Binary(b) => b.ray_traverse_miss(ray, intersect),
+            Tree::Cw { bvh, primitives } => bvh.ray_traverse_miss(ray, |r, id| primitives.intersect(r, id)),
+            Tree::Binary { bvh, primitives } => bvh.ray_traverse_miss(ray, |r, id| primitives.intersect(r, id)),
         }
     }
 }
 
-/// A triangle as the ray test reads it: `v0`, the edges `e1 = v0 - v1` and `e2 = v2 - v0`,
-/// and the unnormalized normal `n = e1 x e2`. These are the terms obvhs'
-/// `Triangle::intersect` (and `scene.wgsl`'s `triangle_intersect`) derive on every test;
-/// computed once here, with the same operations, they give the same bits.
-#[derive(Clone, Copy, Default)]
-#[repr(C, align(64))]
-struct RayTriangle {
-    v0: Vec3A,
-    e1: Vec3A,
-    e2: Vec3A,
-    n: Vec3A,
+/// The closest hit among the packets of the leaves a walk visits: `(packet, lane, t)`. Lanes
+/// are tried in leaf order and a hit must be strictly nearer, so ties go to the first, as in a
+/// loop over the leaf's triangles.
+struct ClosestInPackets<'a> {
+    packets: &'a [TrianglePacket],
+    ray: &'a Ray,
+    best: Option<(usize, usize, f32)>,
 }
 
-impl RayTriangle {
-    fn new(t: &BvhTriangle) -> RayTriangle {
-        let e1 = t.v0 - t.v1;
-        let e2 = t.v2 - t.v0;
-        RayTriangle { v0: t.v0, e1, e2, n: e1.cross(e2) }
-    }
-
-    /// Möller & Trumbore 1997 in the form of obvhs and `scene.wgsl`: `r = d x (v0 - o)`,
-    /// `u = (r . e2) / (n . d)`, `v = (r . e1) / (n . d)`, hit when `u, v, 1 - u - v` have no
-    /// sign bit set, `t = (n . (v0 - o)) / (n . d)` in `[tmin, tmax]`; `inf` otherwise.
+impl Leaf for &mut ClosestInPackets<'_> {
     #[inline(always)]
-    fn intersect(&self, ray: &Ray) -> f32 {
-        let c = self.v0 - ray.origin;
-        let r = ray.direction.cross(c);
-        let inv_det = 1.0 / self.n.dot(ray.direction);
-        let u = r.dot(self.e2) * inv_det;
-        let v = r.dot(self.e1) * inv_det;
-        let w = 1.0 - u - v;
-        // A sign bit on any of u, v, w (-0.0 included) misses, as in obvhs.
-        let signs = u.to_bits() | v.to_bits() | w.to_bits();
-        if inv_det != 0.0 && signs & 0x8000_0000 == 0 {
-            let t = self.n.dot(c) * inv_det;
-            if t >= ray.tmin && t <= ray.tmax {
-                return t;
+    fn visit(&mut self, first: u32, count: u32, t_max: &mut f32) -> bool {
+        for k in first as usize..(first as usize).saturating_add(packet_count(count)) {
+            let Some(p) = self.packets.get(k) else { break };
+            for (i, &t) in p.intersect(self.ray).iter().enumerate() {
+                if t < *t_max {
+                    *t_max = t;
+                    self.best = Some((k, i, t));
+                }
             }
         }
-        f32::INFINITY
+        false
     }
+}
+
+/// Whether any triangle of the leaves a walk visits is hit (shadow rays): stops at the first.
+struct AnyInPackets<'a> {
+    packets: &'a [TrianglePacket],
+    ray: &'a Ray,
+    hit: bool,
+}
+
+impl Leaf for &mut AnyInPackets<'_> {
+    #[inline(always)]
+    fn visit(&mut self, first: u32, count: u32, t_max: &mut f32) -> bool {
+        let range = first as usize..(first as usize).saturating_add(packet_count(count));
+        let leaf = self.packets.get(range).unwrap_or_default();
+        self.hit = leaf.iter().any(|p| p.intersect(self.ray).iter().any(|&t| t < *t_max));
+        self.hit
+    }
+}
+
+/// Packets a leaf of `count` triangles spans.
+#[inline(always)]
+fn packet_count(count: u32) -> usize {
+    (count as usize).div_ceil(PACKET_WIDTH)
+}
+
+/// Packs each leaf of `wide` (triangles `first..first + count` of `indices`, the tree's
+/// primitive order) into consecutive [`TrianglePacket`]s and points the leaf at its first.
+fn pack_leaves(wide: &mut WideBvh, tris: &[BvhTriangle], indices: &[u32]) -> Vec<TrianglePacket> {
+    let mut packets = Vec::new();
+    wide.remap_leaves(|first, count| {
+        let at = packets.len() as u32;
+        let range = first as usize..(first as usize).saturating_add(count as usize);
+        let lanes: Vec<(RayTriangle, u32)> = indices
+            .get(range)
+            .unwrap_or_default()
+            .iter()
+            .map(|&i| (tris.get(i as usize).map(RayTriangle::new).unwrap_or_default(), i))
+            .collect();
+        packets.extend(lanes.chunks(PACKET_WIDTH).map(TrianglePacket::new));
+        at
+    });
+    packets
 }
 
 /// Barycentrics `(b1, b2)` of the ray's intersection with the triangle's plane, Moller &

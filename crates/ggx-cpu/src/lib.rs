@@ -21,6 +21,7 @@
 mod accel;
 mod integrator;
 mod offset;
+mod ray_triangle;
 pub mod render;
 mod scene_data;
 mod wide_bvh;

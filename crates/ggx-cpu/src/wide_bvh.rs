@@ -100,6 +100,24 @@ pub(crate) struct WideBvh {
     arch: pulp::Arch,
 }
 
+/// What a walk does at a leaf: `visit(first, count, t_max)` tests the leaf's primitives
+/// (`first` is the leaf's index: its first primitive, or what [`WideBvh::remap_leaves`] made
+/// it), lowers `t_max` to a nearer hit and returns true to stop the walk (an any-hit query).
+/// A closure is one; a type whose `visit` is `#[inline(always)]` is compiled into the walk
+/// for the walk's vector ISA, where a closure's body may stay a call compiled for the
+/// baseline one.
+pub(crate) trait Leaf {
+    /// Tests the leaf `first` of `count` primitives.
+    fn visit(&mut self, first: u32, count: u32, t_max: &mut f32) -> bool;
+}
+
+impl<F: FnMut(u32, u32, &mut f32) -> bool> Leaf for F {
+    #[inline(always)]
+    fn visit(&mut self, first: u32, count: u32, t_max: &mut f32) -> bool {
+        self(first, count, t_max)
+    }
+}
+
 /// A walk's arguments, for `pulp`'s dispatch.
 struct Walk<'a, const ORDERED: bool, F> {
     bvh: &'a WideBvh,
@@ -108,7 +126,7 @@ struct Walk<'a, const ORDERED: bool, F> {
     leaf: F,
 }
 
-impl<const ORDERED: bool, F: FnMut(u32, u32, &mut f32) -> bool> pulp::WithSimd for Walk<'_, ORDERED, F> {
+impl<const ORDERED: bool, F: Leaf> pulp::WithSimd for Walk<'_, ORDERED, F> {
     type Output = ();
 
     #[inline(always)]
@@ -171,11 +189,23 @@ impl WideBvh {
         Some(WideBvh { nodes, arch: pulp::Arch::new() })
     }
 
-    /// Walks the tree for `ray` (`ray.tmax` is the initial limit). `leaf(first, count, t_max)`
+    /// Replaces the index of every leaf lane (its first primitive) by `f(first, count)`, in
+    /// node order: lets the caller lay the leaves' primitives out as it tests them.
+    pub(crate) fn remap_leaves(&mut self, mut f: impl FnMut(u32, u32) -> u32) {
+        for node in &mut self.nodes {
+            for lane in 0..WIDTH {
+                if node.count[lane] > 0 {
+                    node.index[lane] = f(node.index[lane], node.count[lane]);
+                }
+            }
+        }
+    }
+
+    /// Walks the tree for `ray` (`ray.tmax` is the initial limit). `leaf.visit(first, count, t_max)`
     /// tests a leaf's primitives, lowers `t_max` to a nearer hit and returns true to stop the walk
     /// (an any-hit query); `ORDERED`: visit nearer children first (closest-hit queries).
     #[inline(always)]
-    pub(crate) fn traverse<const ORDERED: bool>(&self, ray: &Ray, leaf: impl FnMut(u32, u32, &mut f32) -> bool) {
+    pub(crate) fn traverse<const ORDERED: bool>(&self, ray: &Ray, leaf: impl Leaf) {
         // A ray with a NaN component, or an infinite origin, hits nothing.
         if self.nodes.is_empty() || !ray.origin.is_finite() || ray.direction.is_nan() {
             return;
@@ -194,12 +224,7 @@ impl WideBvh {
     /// direction (infinite for a zero component), not obvhs' clamped `inv_direction`, which
     /// shortens the slabs of near-axis-parallel rays.
     #[inline(always)]
-    fn walk<const ORDERED: bool>(
-        &self,
-        ray: &Ray,
-        stack: &mut Stack,
-        mut leaf: impl FnMut(u32, u32, &mut f32) -> bool,
-    ) {
+    fn walk<const ORDERED: bool>(&self, ray: &Ray, stack: &mut Stack, mut leaf: impl Leaf) {
         let inv = ray.direction.recip().to_array();
         // The sign bit, so that -0.0 (reciprocal -inf) takes the mirrored planes.
         let neg = inv.map(|x| x.is_sign_negative());
@@ -215,7 +240,7 @@ impl WideBvh {
                 let i = m.trailing_zeros() as usize;
                 m &= m - 1;
                 if n.count[i] > 0 {
-                    if leaf(n.index[i], n.count[i], &mut t_max) {
+                    if leaf.visit(n.index[i], n.count[i], &mut t_max) {
                         return;
                     }
                 } else if len < STACK_SIZE && n.index[i] as usize > node {
@@ -292,6 +317,11 @@ fn set_lane(node: &mut WideNode, lane: usize, child: &obvhs::bvh2::node::Bvh2Nod
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A closure as a [`Leaf`] (fixes its argument types).
+    fn leaf(f: impl FnMut(u32, u32, &mut f32) -> bool) -> impl Leaf {
+        f
+    }
     use glam::Vec3A;
     use obvhs::BvhBuildParams;
     use obvhs::triangle::Triangle;
@@ -345,26 +375,32 @@ mod tests {
                 let ray = Ray::new(o, d, 0.0, f32::INFINITY);
                 let brute = tris.iter().map(|t| t.intersect(&ray)).fold(f32::INFINITY, f32::min);
                 let mut hit = None;
-                wide.traverse::<true>(&ray, |first, n, t_max| {
-                    for p in first..first + n {
-                        let t = tris[order[p as usize] as usize].intersect(&ray);
-                        if t < *t_max {
-                            *t_max = t;
-                            hit = Some(t);
+                wide.traverse::<true>(
+                    &ray,
+                    leaf(|first, n, t_max| {
+                        for p in first..first + n {
+                            let t = tris[order[p as usize] as usize].intersect(&ray);
+                            if t < *t_max {
+                                *t_max = t;
+                                hit = Some(t);
+                            }
                         }
-                    }
-                    false
-                });
+                        false
+                    }),
+                );
                 assert_eq!(hit.unwrap_or(f32::INFINITY).to_bits(), brute.to_bits(), "{count} triangles, ray {r}");
                 hits += usize::from(hit.is_some());
                 for limit in [brute * 0.999, brute * 1.001, 1e30] {
                     let shadow = Ray { tmax: limit, ..ray };
                     let mut blocked = false;
-                    wide.traverse::<false>(&shadow, |first, n, t_max| {
-                        blocked =
-                            (first..first + n).any(|p| tris[order[p as usize] as usize].intersect(&shadow) < *t_max);
-                        blocked
-                    });
+                    wide.traverse::<false>(
+                        &shadow,
+                        leaf(|first, n, t_max| {
+                            blocked = (first..first + n)
+                                .any(|p| tris[order[p as usize] as usize].intersect(&shadow) < *t_max);
+                            blocked
+                        }),
+                    );
                     assert_eq!(blocked, brute < limit, "{count} triangles, ray {r}, limit {limit}");
                 }
             }
@@ -387,23 +423,29 @@ mod tests {
         let wide = WideBvh::from_bvh2(&tree).unwrap();
         let closest = |ray: &Ray| {
             let mut best = None;
-            wide.traverse::<true>(ray, |first, n, t_max| {
-                for p in first..first + n {
-                    let t = tris[tree.primitive_indices[p as usize] as usize].intersect(ray);
-                    if t < *t_max {
-                        (*t_max, best) = (t, Some(t));
+            wide.traverse::<true>(
+                ray,
+                leaf(|first, n, t_max| {
+                    for p in first..first + n {
+                        let t = tris[tree.primitive_indices[p as usize] as usize].intersect(ray);
+                        if t < *t_max {
+                            (*t_max, best) = (t, Some(t));
+                        }
                     }
-                }
-                false
-            });
+                    false
+                }),
+            );
             best
         };
         let ray = Ray::new(Vec3A::new(7.2, 0.3, 5.0), -Vec3A::Z, 0.0, f32::INFINITY);
         let mut inner = Vec::new();
-        wide.traverse::<false>(&ray, |_, _, _| {
-            inner.push(closest(&ray));
-            false
-        });
+        wide.traverse::<false>(
+            &ray,
+            leaf(|_, _, _| {
+                inner.push(closest(&ray));
+                false
+            }),
+        );
         assert!(!inner.is_empty());
         assert!(inner.iter().all(|&t| t == Some(5.0)), "{inner:?}");
         assert_eq!(closest(&ray), Some(5.0));
@@ -413,10 +455,13 @@ mod tests {
     fn an_empty_tree_hits_nothing_and_a_deep_one_is_refused() {
         let empty = WideBvh::from_bvh2(&Bvh2::default()).unwrap();
         let mut called = false;
-        empty.traverse::<true>(&Ray::new(Vec3A::ZERO, Vec3A::X, 0.0, f32::INFINITY), |_, _, _| {
-            called = true;
-            false
-        });
+        empty.traverse::<true>(
+            &Ray::new(Vec3A::ZERO, Vec3A::X, 0.0, f32::INFINITY),
+            leaf(|_, _, _| {
+                called = true;
+                false
+            }),
+        );
         assert!(!called);
         // Rays with a NaN component or an infinite origin end without a hit (and without
         // visiting a leaf); the same rays with finite components reach the triangle.
@@ -430,16 +475,19 @@ mod tests {
             (Vec3A::new(nan, 0.2, 1.0), -Vec3A::Z),
             (Vec3A::new(0.2, 0.2, inf), -Vec3A::Z),
         ] {
-            wide.traverse::<true>(&ray(o, d), |_, _, _| panic!("{o} {d} reached a leaf"));
+            wide.traverse::<true>(&ray(o, d), leaf(|_, _, _| panic!("{o} {d} reached a leaf")));
         }
         for (o, d) in
             [(Vec3A::new(0.2, 0.2, 1.0), -Vec3A::Z), (Vec3A::new(0.2, 0.2, 1.0), Vec3A::new(-0.0, -0.0, -1.0))]
         {
             let mut reached = false;
-            wide.traverse::<true>(&ray(o, d), |_, _, _| {
-                reached = true;
-                false
-            });
+            wide.traverse::<true>(
+                &ray(o, d),
+                leaf(|_, _, _| {
+                    reached = true;
+                    false
+                }),
+            );
             assert!(reached, "{o} {d}");
         }
         // A chain: every inner node has a leaf and an inner child, so each wide level opens

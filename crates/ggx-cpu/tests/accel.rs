@@ -1,5 +1,5 @@
 //! The wide BVH against obvhs' binary BVH it is collapsed from, on every shipped scene: the same
-//! closest distance bit for bit and the same shadow-ray answers, and where the two disagree the
+//! closest distance and barycentrics bit for bit and the same shadow-ray answers, and where the two disagree the
 //! wide BVH's is a brute-force loop's over all triangles (its box test keeps a rounding margin
 //! that obvhs' lacks).
 
@@ -57,6 +57,15 @@ fn wide_bvh_finds_the_binary_bvhs_hits() {
                 hits += 1;
                 // Two triangles at the same distance (a shared edge or vertex): either is right.
                 ties += u32::from(w.triangle != b.triangle);
+                if agree && w.triangle == b.triangle {
+                    // The wide tree's packets give back the triangle the barycentrics read.
+                    assert_eq!(
+                        (w.b1.to_bits(), w.b2.to_bits()),
+                        (b.b1.to_bits(), b.b2.to_bits()),
+                        "{}",
+                        path.display()
+                    );
+                }
                 let limit = w.t * 0.99;
                 assert!(wide.unoccluded(o, d, limit), "{}: ray {o} {d}", path.display());
             }
