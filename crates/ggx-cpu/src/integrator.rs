@@ -206,7 +206,7 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
             break;
         };
         let Some(tri) = scene.triangles.get(hit.triangle as usize) else { break };
-        let ng = tri.geometric_normal();
+        let ng = scene.geometric_normals.get(hit.triangle as usize).copied().unwrap_or(Vec3::ZERO);
         let p = origin + dir * hit.t;
         let material = tri.material as usize;
 
@@ -339,6 +339,7 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
                 if let Some((e, _pmf, _)) = scene.lights.sample(u_emitter)
                     && let Some(emitter) = scene.lights.emitters.get(e)
                     && let Some(light_tri) = scene.triangles.get(emitter.triangle as usize)
+                    && let Some(&light_ng) = scene.geometric_normals.get(emitter.triangle as usize)
                 {
                     let pl = sample_triangle(light_tri.vertices(), s.light);
                     // The sampled point's barycentrics (`sample_triangle`'s weights of v1, v2).
@@ -350,7 +351,7 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
                     let dist2 = to_light.length_squared();
                     let dist = dist2.sqrt();
                     let wi_world = to_light / dist;
-                    let cos_l = -light_tri.geometric_normal().dot(wi_world);
+                    let cos_l = -light_ng.dot(wi_world);
                     let wi = frame.to_local(wi_world);
                     if cos_l > 0.0 && sides_agree(wi, wi_world, ng, transmits) && dist > 0.0 {
                         let pdf_light = p_area * scene.lights.pdf_area(e) * dist2 / cos_l;

@@ -15,6 +15,9 @@ pub struct SceneData {
     pub accel: Accel,
     /// World-space triangles (scene order).
     pub triangles: Vec<Triangle>,
+    /// [`Triangle::geometric_normal`] of each triangle, computed once (a hit and an area-light
+    /// sample each read one).
+    pub geometric_normals: Vec<Vec3>,
     /// Per-vertex shading normals referenced by `Triangle::normals`.
     pub shading_normals: Vec<ShadingNormals>,
     /// One BSDF per scene material.
@@ -82,6 +85,7 @@ impl SceneData {
             uses_lobe_sample: bsdfs.iter().any(Bsdf::uses_lobe_sample),
             accel: Accel::build(&scene.mesh.triangles, accel),
             triangles: scene.mesh.triangles.clone(),
+            geometric_normals: scene.mesh.triangles.iter().map(Triangle::geometric_normal).collect(),
             shading_normals: scene.mesh.shading_normals.clone(),
             bsdfs,
             emission: scene.materials.iter().map(|m| m.emission()).collect(),
