@@ -208,10 +208,19 @@ struct AnyInPackets<'a> {
 impl Leaf for &mut AnyInPackets<'_> {
     #[inline(always)]
     fn visit(&mut self, first: u32, count: u32, t_max: &mut f32) -> bool {
-        let range = first as usize..(first as usize).saturating_add(packet_count(count));
-        let leaf = self.packets.get(range).unwrap_or_default();
-        self.hit = leaf.iter().any(|p| p.intersect(self.ray).iter().any(|&t| t < *t_max));
-        self.hit
+        // Plain loops: iterator adapters such as `any` stay calls compiled for the baseline ISA.
+        for k in first as usize..(first as usize).saturating_add(packet_count(count)) {
+            let Some(p) = self.packets.get(k) else { break };
+            let mut hit = false;
+            for t in p.intersect(self.ray) {
+                hit |= t < *t_max;
+            }
+            if hit {
+                self.hit = true;
+                return true;
+            }
+        }
+        false
     }
 }
 
