@@ -1,8 +1,8 @@
 //! Ray-triangle acceleration: a BVH over the scene's world-space triangles (obvhs' binary BVH
 //! collapsed into our 8-wide [`WideBvh`], or obvhs' CWBVH or BVH2 as they are), stored in BVH
 //! leaf order so a leaf's triangles are contiguous in memory, each with the edges and normal
-//! its ray test needs precomputed ([`RayTriangle`]); the wide tree's leaves hold them four to a
-//! [`TrianglePacket`], tested together.
+//! its ray test needs precomputed ([`RayTriangle`]); the wide tree's leaves hold them up to
+//! eight to a [`TrianglePacket`], tested together.
 
 use ggx_scene::Triangle;
 use glam::{Vec3, Vec3A};
@@ -59,9 +59,11 @@ impl Primitives {
         self.ordered.get(id).map_or(f32::INFINITY, |t| t.intersect(ray))
     }
 
-    /// Triangle `id` and its scene index.
-    fn get(&self, id: usize) -> Option<(RayTriangle, u32)> {
-        Some((*self.ordered.get(id)?, *self.triangle.get(id)?))
+    /// An obvhs traversal's answer as the hit triangle, its scene index and distance (`None`
+    /// when nothing was `found`).
+    fn hit(&self, found: bool, hit: &RayHit) -> Option<(RayTriangle, u32, f32)> {
+        let id = hit.primitive_id as usize;
+        found.then_some((*self.ordered.get(id)?, *self.triangle.get(id)?, hit.t))
     }
 }
 
@@ -139,19 +141,13 @@ impl Accel {
             }
             Tree::Cw { bvh, primitives } => {
                 let mut hit = RayHit::none();
-                if !bvh.ray_traverse(ray, &mut hit, |r, id| primitives.intersect(r, id)) {
-                    return None;
-                }
-                let (tri, index) = primitives.get(hit.primitive_id as usize)?;
-                (tri, index, hit.t)
+                let found = bvh.ray_traverse(ray, &mut hit, |r, id| primitives.intersect(r, id));
+                primitives.hit(found, &hit)?
             }
             Tree::Binary { bvh, primitives } => {
                 let mut hit = RayHit::none();
-                if !bvh.ray_traverse(ray, &mut hit, |r, id| primitives.intersect(r, id)) {
-                    return None;
-                }
-                let (tri, index) = primitives.get(hit.primitive_id as usize)?;
-                (tri, index, hit.t)
+                let found = bvh.ray_traverse(ray, &mut hit, |r, id| primitives.intersect(r, id));
+                primitives.hit(found, &hit)?
             }
         };
         let (b1, b2) = barycentrics(&tri, origin, dir);
