@@ -55,6 +55,7 @@ struct Primitives {
 }
 
 impl Primitives {
+    #[inline(always)]
     fn intersect(&self, ray: &Ray, id: usize) -> f32 {
         self.ordered.get(id).map_or(f32::INFINITY, |t| t.intersect(ray))
     }

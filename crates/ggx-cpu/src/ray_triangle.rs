@@ -1,77 +1,115 @@
-//! The ray-triangle test, written once over `f32` components ([`moller_trumbore_t`]) and run on
-//! one triangle ([`RayTriangle`], for obvhs' trees) or on up to eight triangles of a BVH leaf at
+//! The ray-triangle test, written once over three-component vectors ([`moller_trumbore_t`]) and
+//! run on one triangle ([`RayTriangle`], in SSE registers, for obvhs' trees) or on up to eight triangles of a BVH leaf at
 //! once ([`TrianglePacket`], structure of arrays, for [`crate::wide_bvh::WideBvh`]): the
 //! packet's lane loop is the scalar function inlined once per lane, which LLVM compiles to one
 //! AVX operation per step (measured 5-10 % faster than four-wide packets on the peer scenes).
 //! The same IEEE operations in the same order, so every lane holds the scalar result bit for
 //! bit (Rust never fuses a multiply-add).
 
+use glam::Vec3A;
 use obvhs::ray::Ray;
 use obvhs::triangle::Triangle as BvhTriangle;
 
 /// Triangles per [`TrianglePacket`].
 pub(crate) const PACKET_WIDTH: usize = 8;
 
-/// `a - b`.
-#[inline(always)]
-fn sub(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+/// The three-component arithmetic the test needs, on glam's `Vec3A` (one SSE register: what a
+/// single triangle's test runs on) and on `[f32; 3]` (plain components: what a packet's lane
+/// loop runs on, vectorized across lanes instead). Both compute every component with the same
+/// operations in the same order, so the test gives the same bits on either.
+pub(crate) trait Vector3: Copy {
+    /// `self - other`.
+    fn sub(self, other: Self) -> Self;
+    /// `self . other`, summed left to right.
+    fn dot(self, other: Self) -> f32;
+    /// `self x other`.
+    fn cross(self, other: Self) -> Self;
 }
 
-/// `a . b`, summed left to right as glam's `Vec3A::dot`.
-#[inline(always)]
-fn dot(a: [f32; 3], b: [f32; 3]) -> f32 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+impl Vector3 for [f32; 3] {
+    #[inline(always)]
+    fn sub(self, b: Self) -> Self {
+        [self[0] - b[0], self[1] - b[1], self[2] - b[2]]
+    }
+
+    #[inline(always)]
+    fn dot(self, b: Self) -> f32 {
+        self[0] * b[0] + self[1] * b[1] + self[2] * b[2]
+    }
+
+    /// Each component as glam's `Vec3A::cross` computes it.
+    #[inline(always)]
+    fn cross(self, b: Self) -> Self {
+        let a = self;
+        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    }
 }
 
-/// `a x b`, each component as glam's `Vec3A::cross` computes it.
-#[inline(always)]
-fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+impl Vector3 for Vec3A {
+    #[inline(always)]
+    fn sub(self, other: Self) -> Self {
+        self - other
+    }
+
+    #[inline(always)]
+    fn dot(self, other: Self) -> f32 {
+        Vec3A::dot(self, other)
+    }
+
+    #[inline(always)]
+    fn cross(self, other: Self) -> Self {
+        Vec3A::cross(self, other)
+    }
 }
 
 /// Möller & Trumbore 1997 in the form of obvhs and `scene.wgsl`: `c = v0 - o`, `r = d x c`,
 /// `u = (r . e2) / (n . d)`, `v = (r . e1) / (n . d)`, a hit when `u, v, 1 - u - v` have no sign
 /// bit set (`-0.0` misses, as in obvhs) and `t = (n . c) / (n . d)` is in `[tmin, tmax]`; `inf`
-/// otherwise (NaN anywhere misses). Branch-free, so a loop over lanes vectorizes.
+/// otherwise (NaN anywhere misses). `EARLY_OUT`: return before computing `t` when the
+/// barycentric test fails (one triangle: most tests miss); without it the function has no
+/// branch, so a loop over lanes vectorizes. The same bits either way.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn moller_trumbore_t(
-    v0: [f32; 3],
-    e1: [f32; 3],
-    e2: [f32; 3],
-    n: [f32; 3],
-    o: [f32; 3],
-    d: [f32; 3],
+pub(crate) fn moller_trumbore_t<V: Vector3, const EARLY_OUT: bool>(
+    v0: V,
+    e1: V,
+    e2: V,
+    n: V,
+    o: V,
+    d: V,
     tmin: f32,
     tmax: f32,
 ) -> f32 {
-    let c = sub(v0, o);
-    let r = cross(d, c);
-    let inv_det = 1.0 / dot(n, d);
-    let u = dot(r, e2) * inv_det;
-    let v = dot(r, e1) * inv_det;
+    let c = v0.sub(o);
+    let r = d.cross(c);
+    let inv_det = 1.0 / n.dot(d);
+    let u = r.dot(e2) * inv_det;
+    let v = r.dot(e1) * inv_det;
     let w = 1.0 - u - v;
-    let t = dot(n, c) * inv_det;
     let signs = u.to_bits() | v.to_bits() | w.to_bits();
-    let hit = inv_det != 0.0 && signs & 0x8000_0000 == 0 && t >= tmin && t <= tmax;
-    if hit { t } else { f32::INFINITY }
+    let inside = inv_det != 0.0 && signs & 0x8000_0000 == 0;
+    if EARLY_OUT && !inside {
+        return f32::INFINITY;
+    }
+    let t = n.dot(c) * inv_det;
+    if inside && t >= tmin && t <= tmax { t } else { f32::INFINITY }
 }
 
 /// A triangle as the ray test reads it: `v0`, the edges `e1 = v0 - v1` and `e2 = v2 - v0`,
 /// and the unnormalized normal `n = e1 x e2`. These are the terms obvhs'
 /// `Triangle::intersect` (and `scene.wgsl`'s `triangle_intersect`) derive on every test;
-/// computed once here, with the same operations, they give the same bits.
+/// computed once here, with the same operations, they give the same bits. One cache line.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[repr(C, align(64))]
 pub(crate) struct RayTriangle {
     /// First vertex.
-    pub v0: [f32; 3],
+    pub v0: Vec3A,
     /// `v0 - v1`.
-    pub e1: [f32; 3],
+    pub e1: Vec3A,
     /// `v2 - v0`.
-    pub e2: [f32; 3],
+    pub e2: Vec3A,
     /// `e1 x e2`.
-    pub n: [f32; 3],
+    pub n: Vec3A,
 }
 
 impl RayTriangle {
@@ -79,14 +117,13 @@ impl RayTriangle {
     pub(crate) fn new(t: &BvhTriangle) -> RayTriangle {
         let e1 = t.v0 - t.v1;
         let e2 = t.v2 - t.v0;
-        RayTriangle { v0: t.v0.to_array(), e1: e1.to_array(), e2: e2.to_array(), n: e1.cross(e2).to_array() }
+        RayTriangle { v0: t.v0, e1, e2, n: e1.cross(e2) }
     }
 
-    /// [`moller_trumbore_t`] of this triangle.
+    /// [`moller_trumbore_t`] of this triangle, on `Vec3A`, returning early on a miss.
     #[inline(always)]
     pub(crate) fn intersect(&self, ray: &Ray) -> f32 {
-        let (o, d) = (ray.origin.to_array(), ray.direction.to_array());
-        moller_trumbore_t(self.v0, self.e1, self.e2, self.n, o, d, ray.tmin, ray.tmax)
+        moller_trumbore_t::<_, true>(self.v0, self.e1, self.e2, self.n, ray.origin, ray.direction, ray.tmin, ray.tmax)
     }
 }
 
@@ -118,11 +155,12 @@ impl TrianglePacket {
     pub(crate) fn new(lanes: &[(RayTriangle, u32)]) -> TrianglePacket {
         let mut p = TrianglePacket::EMPTY;
         for (i, (t, index)) in lanes.iter().take(PACKET_WIDTH).enumerate() {
+            let (v0, e1, e2, n) = (t.v0.to_array(), t.e1.to_array(), t.e2.to_array(), t.n.to_array());
             for a in 0..3 {
-                p.v0[a][i] = t.v0[a];
-                p.e1[a][i] = t.e1[a];
-                p.e2[a][i] = t.e2[a];
-                p.n[a][i] = t.n[a];
+                p.v0[a][i] = v0[a];
+                p.e1[a][i] = e1[a];
+                p.e2[a][i] = e2[a];
+                p.n[a][i] = n[a];
             }
             p.triangle[i] = *index;
         }
@@ -132,18 +170,27 @@ impl TrianglePacket {
     /// Lane `i` as one triangle.
     pub(crate) fn lane(&self, i: usize) -> RayTriangle {
         let i = i % PACKET_WIDTH;
-        let at = |m: &[[f32; PACKET_WIDTH]; 3]| [m[0][i], m[1][i], m[2][i]];
+        let at = |m: &[[f32; PACKET_WIDTH]; 3]| Vec3A::new(m[0][i], m[1][i], m[2][i]);
         RayTriangle { v0: at(&self.v0), e1: at(&self.e1), e2: at(&self.e2), n: at(&self.n) }
     }
 
-    /// [`moller_trumbore_t`] of every lane.
+    /// [`moller_trumbore_t`] of every lane, branch-free.
     #[inline(always)]
     pub(crate) fn intersect(&self, ray: &Ray) -> [f32; PACKET_WIDTH] {
         let (o, d) = (ray.origin.to_array(), ray.direction.to_array());
         let mut t = [f32::INFINITY; PACKET_WIDTH];
         for (i, t) in t.iter_mut().enumerate() {
             let at = |m: &[[f32; PACKET_WIDTH]; 3]| [m[0][i], m[1][i], m[2][i]];
-            *t = moller_trumbore_t(at(&self.v0), at(&self.e1), at(&self.e2), at(&self.n), o, d, ray.tmin, ray.tmax);
+            *t = moller_trumbore_t::<_, false>(
+                at(&self.v0),
+                at(&self.e1),
+                at(&self.e2),
+                at(&self.n),
+                o,
+                d,
+                ray.tmin,
+                ray.tmax,
+            );
         }
         t
     }
@@ -152,11 +199,10 @@ impl TrianglePacket {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::Vec3A;
 
     /// The bits of every term (NaN included, which `==` would call unequal to itself).
     fn bits(t: &RayTriangle) -> Vec<u32> {
-        [t.v0, t.e1, t.e2, t.n].iter().flatten().map(|x| x.to_bits()).collect()
+        [t.v0, t.e1, t.e2, t.n].iter().flat_map(|v| v.to_array()).map(|x| x.to_bits()).collect()
     }
 
     /// Every lane of a packet, and the one-triangle test, give obvhs' `Triangle::intersect`
