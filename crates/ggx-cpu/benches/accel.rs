@@ -5,26 +5,15 @@
 //! rays up to 0.9 of their closest hit (every one unoccluded, the full walk) and to infinity.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use ggx_core::{SampleStream, SequenceKind};
 use ggx_cpu::{Accel, AccelKind};
 use glam::{Vec2, Vec3};
 use std::hint::black_box;
 use std::path::Path;
 
-/// Rays from around the bounds `lo..hi` toward random points inside them.
-fn scattered(lo: Vec3, hi: Vec3, count: u32) -> Vec<(Vec3, Vec3)> {
-    (0..count)
-        .map(|i| {
-            let mut s = SampleStream::new(SequenceKind::Independent, 7, i, 0);
-            let mut point = |scale: f32| {
-                let (a, b) = (s.next_2d(), s.next_1d());
-                (lo + hi) * 0.5 + (Vec3::new(a.x, a.y, b) - 0.5) * (hi - lo) * scale
-            };
-            let o = point(2.0);
-            (o, (point(1.0) - o).normalize_or(Vec3::Y))
-        })
-        .collect()
-}
+#[path = "../tests/support/rays.rs"]
+mod rays;
+
+use rays::scattered_rays;
 
 fn queries(c: &mut Criterion) {
     let mut g = c.benchmark_group("accel");
@@ -37,7 +26,7 @@ fn queries(c: &mut Criterion) {
             .map(|i| camera.generate_ray(Vec2::new((i % 64) as f32 + 0.5, (i / 64) as f32 + 0.5)))
             .collect();
         let Some((lo, hi)) = scene.mesh.bounds() else { continue };
-        let rays = scattered(lo, hi, 4096);
+        let rays = scattered_rays(lo, hi, 4096, 7);
         for kind in [AccelKind::Wide, AccelKind::Cwbvh, AccelKind::Bvh2] {
             let accel = Accel::build(&scene.mesh.triangles, kind);
             // Shadow rays that stop short of the nearest hit: nothing blocks them.

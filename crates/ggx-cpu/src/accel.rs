@@ -234,13 +234,10 @@ fn pack_leaves(wide: &mut WideBvh, tris: &[BvhTriangle], indices: &[u32]) -> Vec
     wide.remap_leaves(|first, count| {
         let at = packets.len() as u32;
         let range = first as usize..(first as usize).saturating_add(count as usize);
-        let lanes: Vec<(RayTriangle, u32)> = indices
-            .get(range)
-            .unwrap_or_default()
-            .iter()
-            .map(|&i| (tris.get(i as usize).map(RayTriangle::new).unwrap_or_default(), i))
-            .collect();
-        packets.extend(lanes.chunks(PACKET_WIDTH).map(TrianglePacket::new));
+        for chunk in indices.get(range).unwrap_or_default().chunks(PACKET_WIDTH) {
+            let lanes = chunk.iter().map(|&i| (tris.get(i as usize).map(RayTriangle::new).unwrap_or_default(), i));
+            packets.push(TrianglePacket::new(lanes));
+        }
         at
     });
     packets

@@ -152,9 +152,9 @@ impl TrianglePacket {
     };
 
     /// Packs `lanes` (at most [`PACKET_WIDTH`]: `(triangle, scene index)`), in order.
-    pub(crate) fn new(lanes: &[(RayTriangle, u32)]) -> TrianglePacket {
+    pub(crate) fn new(lanes: impl IntoIterator<Item = (RayTriangle, u32)>) -> TrianglePacket {
         let mut p = TrianglePacket::EMPTY;
-        for (i, (t, index)) in lanes.iter().take(PACKET_WIDTH).enumerate() {
+        for (i, (t, index)) in lanes.into_iter().take(PACKET_WIDTH).enumerate() {
             let (v0, e1, e2, n) = (t.v0.to_array(), t.e1.to_array(), t.e2.to_array(), t.n.to_array());
             for a in 0..3 {
                 p.v0[a][i] = v0[a];
@@ -162,7 +162,7 @@ impl TrianglePacket {
                 p.e2[a][i] = e2[a];
                 p.n[a][i] = n[a];
             }
-            p.triangle[i] = *index;
+            p.triangle[i] = index;
         }
         p
     }
@@ -251,7 +251,7 @@ mod tests {
             }
             let lanes: Vec<(RayTriangle, u32)> =
                 tris.iter().take(used).enumerate().map(|(i, t)| (RayTriangle::new(t), i as u32)).collect();
-            let packet = TrianglePacket::new(&lanes);
+            let packet = TrianglePacket::new(lanes);
             let t = packet.intersect(&ray);
             for (i, tri) in tris.iter().enumerate() {
                 let want = if i < used { tri.intersect(&ray) } else { f32::INFINITY };

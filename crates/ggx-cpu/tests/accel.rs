@@ -1,30 +1,17 @@
-//! The wide BVH against obvhs' binary BVH it is collapsed from, on every shipped scene: the same
-//! closest distance and barycentrics bit for bit and the same shadow-ray answers, and where the two disagree the
-//! wide BVH's is a brute-force loop's over all triangles (its box test keeps a rounding margin
-//! that obvhs' lacks).
+//! The wide BVH against obvhs' binary BVH it is collapsed from, on every shipped scene: the
+//! same closest distance and barycentrics bit for bit and the same shadow-ray answers, and where
+//! the two disagree the wide BVH's is a brute-force loop's over all triangles (its box test keeps
+//! a rounding margin that obvhs' lacks).
 
 use std::path::Path;
 
-use ggx_core::{SampleStream, SequenceKind};
 use ggx_cpu::{Accel, AccelKind};
-use glam::Vec3;
 use obvhs::ray::Ray;
 use obvhs::triangle::Triangle as BvhTriangle;
 
-/// Rays from around the scene's bounds towards random points inside them.
-fn rays(lo: Vec3, hi: Vec3, count: u32) -> Vec<(Vec3, Vec3)> {
-    (0..count)
-        .map(|i| {
-            let mut s = SampleStream::new(SequenceKind::Independent, 11, i, 0);
-            let mut point = |scale: f32| {
-                let (a, b) = (s.next_2d(), s.next_1d());
-                (lo + hi) * 0.5 + (Vec3::new(a.x, a.y, b) - 0.5) * (hi - lo) * scale
-            };
-            let o = point(2.0);
-            (o, (point(1.0) - o).normalize_or(Vec3::Y))
-        })
-        .collect()
-}
+mod support;
+
+use support::rays::scattered_rays;
 
 #[test]
 fn wide_bvh_finds_the_binary_bvhs_hits() {
@@ -40,7 +27,7 @@ fn wide_bvh_finds_the_binary_bvhs_hits() {
         let tris = &scene.mesh.triangles;
         let (wide, bvh2) = (Accel::build(tris, AccelKind::Wide), Accel::build(tris, AccelKind::Bvh2));
         let (mut hits, mut ties, mut disagreements) = (0, 0, 0);
-        for (o, d) in rays(lo, hi, 3000) {
+        for (o, d) in scattered_rays(lo, hi, 3000, 11) {
             let (w, b) = (wide.closest(o, d, f32::INFINITY), bvh2.closest(o, d, f32::INFINITY));
             let agree = w.map(|h| h.t.to_bits()) == b.map(|h| h.t.to_bits());
             if !agree {

@@ -3,6 +3,8 @@
 
 #![allow(dead_code)] // each test binary uses its own subset
 
+pub mod rays;
+
 use ggx_cpu::{AccelKind, RenderControl, RenderOptions, RenderResult, Renderer};
 use ggx_scene::{Scene, parse_scene};
 use glam::Vec3;
