@@ -34,6 +34,7 @@ mod mesh;
 mod punctual;
 mod radiance;
 mod raw;
+mod sample_inputs;
 mod scene;
 mod scene_build;
 mod shape_build;
@@ -68,6 +69,7 @@ pub use memory::{
 pub use mesh::{NO_INDEX, ShadingNormals, Triangle, TriangleMesh, TriangleTangents, TriangleUvs};
 pub use punctual::{PUNCTUAL_DIRECTIONAL, PUNCTUAL_POINT, PUNCTUAL_SPOT, PunctualLight};
 pub use radiance::MAX_RADIANCE;
+pub use sample_inputs::SampleInputSink;
 pub use scene::Scene;
 pub use shape_build::{MAX_SEGMENTS, MAX_SUBDIVISIONS};
 pub use stats::SceneStats;

@@ -10,6 +10,7 @@ use super::{direction_to_uv, uv_to_direction};
 use crate::distribution::Distribution2D;
 use crate::material::LUMINANCE_WEIGHTS;
 use crate::radiance::{MAX_RADIANCE, OVER_MAX_RADIANCE};
+use crate::sample_inputs::{SampleInputSink, pod_part, write_distribution_2d};
 
 /// An equirectangular environment map (see the module docs for the convention).
 ///
@@ -86,6 +87,16 @@ impl fmt::Display for TexelError {
 }
 
 impl EnvMap {
+    /// Writes size, texels, scale, rotation and distribution as [`crate::Scene::write_sample_inputs`] parts.
+    pub(crate) fn write_sample_inputs(&self, out: &mut SampleInputSink<'_>) {
+        let EnvMap { width, height, texels, scale, rotation, distribution, to_map, to_world } = self;
+        pod_part(out, &[*width, *height]);
+        pod_part(out, texels);
+        pod_part(out, &[*scale, *rotation]);
+        write_distribution_2d(out, distribution);
+        pod_part(out, &[*to_map, *to_world]);
+    }
+
     /// Builds a map from row-major RGB texels; `None` when the size does not match, any
     /// texel is negative or not finite, or any texel times `scale` is over [`MAX_RADIANCE`].
     pub fn new(width: u32, height: u32, texels: Vec<[f32; 4]>, scale: f32, rotation_degrees: f32) -> Option<Self> {
