@@ -164,7 +164,8 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
     let draws = Draws {
         lobe: scene.uses_lobe_sample,
         light: use_nee && (has_area || has_env || has_punctual),
-        select: use_nee && ((has_area && has_env) || has_punctual),
+        // Area lights need the dimension to pick an emitter even without another light type.
+        select: use_nee && (has_area || has_punctual),
     };
 
     let mut radiance = Vec3::ZERO;

@@ -457,7 +457,7 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
     let p_punctual = select(0.0, p_class, has_punctual);
     let p_env = select(0.0, 1.0 - p_area - p_punctual, has_env);
     let draw_light = use_nee && (has_area || has_env || has_punctual);
-    let draw_pick = use_nee && ((has_area && has_env) || has_punctual);
+    let draw_pick = use_nee && (has_area || has_punctual);
 
     var origin = origin_in;
     var dir = dir_in;
