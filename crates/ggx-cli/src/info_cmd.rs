@@ -7,7 +7,8 @@ use anyhow::{Context, Result};
 use clap::ValueEnum;
 use ggx_cpu::Renderer;
 use ggx_scene::{
-    BsdfStrategy, CameraPath, Environment, Interpolation, LightStrategy, Limit, Limits, Material, SamplerKind, Scene,
+    BsdfStrategy, CameraPath, Environment, IntegratorSettings, Interpolation, LightStrategy, Limit, Limits, Material,
+    SamplerKind, Scene,
 };
 
 use crate::args::{AccelArg, InfoArgs};
@@ -68,7 +69,7 @@ fn describe(scene: &Scene) -> String {
         "lights",
         format!("{} ({} emitting triangles, area {})", stats.lights, stats.emitters, fixed(stats.light_area, 4)),
     );
-    line("environment", environment(scene.environment.as_ref()));
+    line("environment", environment(scene.environment.as_ref(), &scene.integrator));
     line("features", scene.features.summary());
     let i = &scene.integrator;
     line(
@@ -141,11 +142,22 @@ fn fixed(x: f32, decimals: usize) -> String {
     }
 }
 
-fn environment(env: Option<&Environment>) -> String {
-    match env {
-        None => "none".to_owned(),
-        Some(Environment::Constant(l)) => format!("constant {}", vec3(l.to_array())),
-        Some(Environment::Map(m)) => format!("map {}x{}", m.width, m.height),
+/// The environment, and how light samples take it ([`Environment::for_integrator`]).
+fn environment(env: Option<&Environment>, settings: &IntegratorSettings) -> String {
+    let Some(env) = env else { return "none".to_owned() };
+    let kind = match env {
+        Environment::Constant(l) => format!("constant {}", vec3(l.to_array())),
+        Environment::Map(m) => format!("map {}x{}", m.width, m.height),
+    };
+    let compensated = settings.light_strategy == LightStrategy::Mis && settings.mis_compensation;
+    match env.for_integrator(settings) {
+        (Environment::Map(m), true) if compensated => {
+            let sampled = m.distribution.func.iter().filter(|&&f| f > 0.0).count();
+            let percent = 100.0 * sampled as f64 / m.distribution.func.len().max(1) as f64;
+            format!("{kind}, light samples from the {percent:.1} % of texels above its mean (MIS compensation)")
+        }
+        (_, false) if compensated => format!("{kind}, left to BSDF sampling (MIS compensation)"),
+        _ => kind,
     }
 }
 

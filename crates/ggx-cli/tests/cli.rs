@@ -21,6 +21,29 @@ fn info_prints_counts_and_build_times() {
     assert!(text.contains("wide") && text.contains("cwbvh") && text.contains("bvh2"), "{text}");
 }
 
+/// `info` says how light samples take the environment: a map from its texels above the
+/// mean, a constant one not at all (MIS compensation), a map as it is without MIS.
+#[test]
+fn info_says_how_the_environment_is_sampled() {
+    let environment_line = |args: &[&str]| {
+        let out = ggx(args);
+        let text = stdout_of(&out);
+        assert!(out.status.success(), "{text}");
+        text.lines().find_map(|l| l.strip_prefix("environment:")).expect("an environment line").trim().to_owned()
+    };
+    let map = environment_line(&["info", &scene("bunny.toml")]);
+    assert!(map.starts_with("map ") && map.contains("% of texels above its mean (MIS compensation)"), "{map}");
+    let constant = environment_line(&["info", &scene("furnace.toml")]);
+    assert!(constant.ends_with("left to BSDF sampling (MIS compensation)"), "{constant}");
+    // anisotropic.toml reads no file, so a copy elsewhere still loads.
+    let dir = TempDir::new("info-env");
+    let nee = dir.path().join("nee.toml");
+    let text = std::fs::read_to_string(scene("anisotropic.toml")).unwrap();
+    std::fs::write(&nee, text.replace("[integrator]", "[integrator]\nlight_strategy = \"nee\"")).unwrap();
+    let plain = environment_line(&["info", nee.to_str().unwrap()]);
+    assert!(plain.starts_with("map ") && !plain.contains("MIS"), "{plain}");
+}
+
 #[test]
 fn renders_png_and_exr_at_the_requested_size() {
     let dir = TempDir::new("render");

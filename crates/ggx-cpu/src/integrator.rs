@@ -153,17 +153,20 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
     let use_mis = strategy == LightStrategy::Mis;
     let has_area = AREA && !scene.lights.is_empty();
     let has_env = ENV && scene.environment.is_some();
+    // The environment takes part in next-event estimation (not a constant one under MIS
+    // compensation: `Environment::for_integrator`).
+    let env_light = has_env && scene.environment_is_light;
     let has_punctual = AREA && !scene.punctual_lights.is_empty();
     // Probability of choosing each light type in next-event estimation: area lights, punctual
     // lights and the environment share the selection equally.
-    let classes = u32::from(has_area) + u32::from(has_env) + u32::from(has_punctual);
+    let classes = u32::from(has_area) + u32::from(env_light) + u32::from(has_punctual);
     let p_class = if classes > 0 { 1.0 / classes as f32 } else { 0.0 };
     let p_area = if has_area { p_class } else { 0.0 };
     let p_punctual = if has_punctual { p_class } else { 0.0 };
-    let p_env = if has_env { 1.0 - p_area - p_punctual } else { 0.0 };
+    let p_env = if env_light { 1.0 - p_area - p_punctual } else { 0.0 };
     let draws = Draws {
         lobe: scene.uses_lobe_sample,
-        light: use_nee && (has_area || has_env || has_punctual),
+        light: use_nee && (has_area || env_light || has_punctual),
         // Area lights need the dimension to pick an emitter even without another light type.
         select: use_nee && (has_area || has_punctual),
     };
@@ -378,7 +381,7 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
                     }
                 }
             } else if ENV
-                && has_env
+                && env_light
                 && let Some(env) = &scene.environment
             {
                 let (wi_world, pdf, le) = env.sample_with_radiance(s.light);

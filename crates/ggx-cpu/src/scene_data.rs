@@ -26,8 +26,11 @@ pub struct SceneData {
     pub emission: Vec<Vec3>,
     /// Area lights and their power distribution.
     pub lights: AreaLights,
-    /// The environment, if any.
+    /// The environment, if any, as [`Environment::for_integrator`] gives it (a map's
+    /// distribution MIS-compensated under MIS).
     pub environment: Option<Environment>,
+    /// Next-event estimation samples the environment ([`Environment::for_integrator`]).
+    pub environment_is_light: bool,
     /// The camera.
     pub camera: Camera,
     /// The camera's primary rays, its per-camera terms computed once.
@@ -81,6 +84,13 @@ impl SceneData {
     pub fn new(scene: &Scene, accel: AccelKind) -> SceneData {
         let strategy = scene.integrator.bsdf_sampling;
         let bsdfs: Vec<Bsdf> = scene.materials.iter().map(|m| Bsdf::new(m, strategy)).collect();
+        let (environment, environment_is_light) = match &scene.environment {
+            Some(e) => {
+                let (e, is_light) = e.for_integrator(&scene.integrator);
+                (Some(e), is_light)
+            }
+            None => (None, false),
+        };
         SceneData {
             uses_lobe_sample: bsdfs.iter().any(Bsdf::uses_lobe_sample),
             accel: Accel::build(&scene.mesh.triangles, accel),
@@ -90,7 +100,8 @@ impl SceneData {
             bsdfs,
             emission: scene.materials.iter().map(|m| m.emission()).collect(),
             lights: scene.lights.clone(),
-            environment: scene.environment.clone(),
+            environment,
+            environment_is_light,
             camera: scene.camera,
             ray_generator: scene.camera.ray_generator(),
             light_strategy: scene.integrator.light_strategy,

@@ -8,7 +8,7 @@ mod support;
 use ggx_cpu::{AccelKind, RenderControl, RenderOptions, Renderer};
 use glam::Vec3;
 use std::path::Path;
-use support::{render, render_mean, scene_from};
+use support::{mean, render, render_mean, scene_from};
 
 /// A closed sphere filling the frame, in a uniform environment of 0.7.
 const FURNACE: &str = r#"
@@ -18,7 +18,7 @@ look_at = [0, 0, 0]
 fov_y = 20.0
 resolution = [24, 24]
 [integrator]
-spp = 128
+spp = 512
 max_depth = 256
 russian_roulette = 8
 [environment]
@@ -34,21 +34,31 @@ subdivisions = 5
 smooth = false
 "#;
 
-fn furnace(material: &str) -> Vec3 {
-    render_mean(&scene_from(&FURNACE.replace("MATERIAL", material)))
+/// Mean of the furnace image and the standard error of that mean over its pixels (red).
+fn furnace(material: &str) -> (Vec3, f32) {
+    let pixels = render(&scene_from(&FURNACE.replace("MATERIAL", material))).film.mean();
+    let m = mean(&pixels);
+    let n = pixels.len() as f32;
+    let variance = pixels.iter().map(|p| (p.x - m.x).powi(2)).sum::<f32>() / (n - 1.0);
+    (m, (variance / n).sqrt())
 }
 
 /// Light that enters a closed glass sphere must leave: with energy compensation the sphere
-/// vanishes for every roughness and index; without it, rough glass darkens (measured).
+/// vanishes for every roughness and index, to 1 % plus three standard errors over the
+/// pixels. Dense rough glass (ior 2.42, alpha 1) has a heavy tail of bright samples: its
+/// standard error is 2.4 % of the mean at 512 spp (under 0.15 % for the others), and at 128
+/// spp its mean moves by 6 % between seeds, so a fixed 1 % bound passed or failed by the
+/// luck of the sample sequence. Without compensation, rough glass darkens (measured).
 #[test]
 fn closed_glass_vanishes_in_the_furnace() {
     for (ior, alpha) in [(1.5, 0.0), (1.5, 0.3), (1.5, 1.0), (1.33, 0.6), (2.42, 0.2), (2.42, 1.0)] {
-        let m = furnace(&format!("ior = {ior}\nalpha = {alpha}"));
-        println!("compensated ior {ior} alpha {alpha}: {m}");
-        assert!((m - Vec3::splat(0.7)).abs().max_element() < 0.007, "ior {ior} alpha {alpha}: {m}");
+        let (m, se) = furnace(&format!("ior = {ior}\nalpha = {alpha}"));
+        println!("compensated ior {ior} alpha {alpha}: {m} (standard error {se:.2e})");
+        let bound = 0.007 + 3.0 * se;
+        assert!((m - Vec3::splat(0.7)).abs().max_element() < bound, "ior {ior} alpha {alpha}: {m} (bound {bound})");
     }
     for (ior, alpha) in [(1.5, 0.3), (1.5, 1.0), (2.42, 1.0)] {
-        let m = furnace(&format!("ior = {ior}\nalpha = {alpha}\nenergy_compensation = false"));
+        let (m, _) = furnace(&format!("ior = {ior}\nalpha = {alpha}\nenergy_compensation = false"));
         let loss = 1.0 - m.x / 0.7;
         println!("uncompensated ior {ior} alpha {alpha}: {m} (loses {:.1} %)", 100.0 * loss);
         assert!(m.max_element() < 0.7 && loss > 0.01, "ior {ior} alpha {alpha}: {m}");

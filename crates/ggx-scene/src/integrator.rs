@@ -69,6 +69,9 @@ pub struct IntegratorSettings {
     /// Scene-wide energy compensation: `Some` overrides every material's
     /// `energy_compensation`, `None` keeps each material's own (default on).
     pub energy_compensation: Option<bool>,
+    /// With `light_strategy = Mis`, next-event estimation samples the environment by its
+    /// MIS-compensated distribution ([`crate::Environment::for_light_strategy`]); default on.
+    pub mis_compensation: bool,
 }
 
 impl Default for IntegratorSettings {
@@ -83,6 +86,7 @@ impl Default for IntegratorSettings {
             bsdf_sampling: BsdfStrategy::default(),
             light_strategy: LightStrategy::default(),
             energy_compensation: None,
+            mis_compensation: true,
         }
     }
 }
@@ -120,6 +124,7 @@ impl IntegratorSettings {
             bsdf_sampling: raw.bsdf_sampling.unwrap_or(d.bsdf_sampling),
             light_strategy: raw.light_strategy.unwrap_or(d.light_strategy),
             energy_compensation: raw.energy_compensation,
+            mis_compensation: raw.mis_compensation.unwrap_or(d.mis_compensation),
         })
     }
 }

@@ -72,6 +72,7 @@ pub(crate) struct RawIntegrator {
     pub bsdf_sampling: Option<BsdfStrategy>,
     pub light_strategy: Option<LightStrategy>,
     pub energy_compensation: Option<bool>,
+    pub mis_compensation: Option<bool>,
 }
 
 /// Material `type` strings.

@@ -1,10 +1,15 @@
 //! Environment maps: the importance-sampling pdf integrates to one, agrees with the sampled
-//! pdf, passes a chi-square test, and `.hdr` / `.exr` files load texel-exactly.
+//! pdf, passes a chi-square test (each for the full and the MIS-compensated distribution),
+//! MIS with the compensated distribution stays unbiased, and `.hdr` / `.exr` files load
+//! texel-exactly.
 
 use std::f32::consts::PI;
 use std::path::Path;
 
-use ggx_scene::{EnvMap, Environment, direction_to_uv, luminance, parse_scene, sky, studio, uv_to_direction};
+use ggx_scene::{
+    EnvMap, Environment, IntegratorSettings, LightStrategy, direction_to_uv, luminance, parse_scene, sky, studio,
+    uv_to_direction,
+};
 use glam::{Quat, Vec2, Vec3};
 
 /// A small deterministic generator (64-bit LCG, top 24 bits) for reproducible tests.
@@ -35,6 +40,13 @@ fn random_map(rotation_degrees: f32) -> EnvMap {
     EnvMap::new(32, 16, texels, 2.0, rotation_degrees).unwrap()
 }
 
+/// [`random_map`] with its full and its MIS-compensated sampling distribution.
+fn both_maps(rotation_degrees: f32) -> [EnvMap; 2] {
+    let map = random_map(rotation_degrees);
+    let compensated = map.mis_compensated().expect("a random map has texels above its mean");
+    [map, compensated]
+}
+
 /// Map-space texel of a world direction.
 fn cell(map: &EnvMap, world: Vec3) -> (usize, usize) {
     let uv = direction_to_uv(Quat::from_rotation_y(-map.rotation()) * world);
@@ -45,8 +57,8 @@ fn cell(map: &EnvMap, world: Vec3) -> (usize, usize) {
 
 #[test]
 fn pdf_integrates_to_one() {
-    for rotation in [0.0, 40.0] {
-        let map = random_map(rotation);
+    for map in [0.0, 40.0].into_iter().flat_map(both_maps) {
+        let rotation = map.rotation();
         // Midpoint rule over (u, v) with d(omega) = 2 pi^2 sin(pi v) du dv.
         let (nu, nv) = (1024, 512);
         let mut sum = 0.0f64;
@@ -64,8 +76,7 @@ fn pdf_integrates_to_one() {
 
 #[test]
 fn sampled_pdf_matches_pdf() {
-    for rotation in [0.0, 40.0] {
-        let map = random_map(rotation);
+    for map in [0.0, 40.0].into_iter().flat_map(both_maps) {
         let mut rng = Lcg(11);
         let n = 100_000;
         let mut mismatches = 0;
@@ -98,14 +109,19 @@ fn sampled_pdf_matches_pdf() {
 
 #[test]
 fn chi_square_of_sampled_texels() {
-    let map = random_map(40.0);
+    for map in both_maps(40.0) {
+        chi_square(&map);
+    }
+}
+
+fn chi_square(map: &EnvMap) {
     let (w, h) = (map.width as usize, map.height as usize);
     let n = 200_000;
     let mut counts = vec![0u32; w * h];
     let mut rng = Lcg(3);
     for _ in 0..n {
         let (d, _) = map.sample(rng.vec2());
-        let (col, row) = cell(&map, d);
+        let (col, row) = cell(map, d);
         counts[row * w + col] += 1;
     }
     // Expected counts n * P(cell), P(cell) = cell pdf * cell area in [0, 1)^2; cells with
@@ -180,9 +196,131 @@ fn texel_w_is_the_cell_density() {
         let texels = map.texels.iter().map(|&[r, g, b, _]| [r, g, b, w]).collect();
         assert_eq!(EnvMap::new(32, 16, texels, 2.0, 0.0).unwrap(), map);
     }
-    for (i, t) in map.texels.iter().enumerate() {
-        assert_eq!(t[3], map.distribution.cell_pdf(i % 32, i / 32));
+    for map in both_maps(0.0) {
+        for (i, t) in map.texels.iter().enumerate() {
+            assert_eq!(t[3], map.distribution.cell_pdf(i % 32, i / 32));
+        }
     }
+}
+
+/// Karlik et al. 2019: the compensated weights are `max(L - mean, 0) sin(theta)`, the mean
+/// taken over solid angle; radiance, scale and rotation are the map's own.
+#[test]
+fn compensated_distribution_keeps_what_stands_above_the_mean() {
+    let map = random_map(30.0);
+    let c = map.mis_compensated().unwrap();
+    assert_eq!((c.width, c.height, c.scale, c.rotation()), (map.width, map.height, map.scale, map.rotation()));
+    let (w, h) = (map.width as usize, map.height as usize);
+    let sin_theta = |row: usize| (std::f64::consts::PI * (row as f64 + 0.5) / h as f64).sin();
+    let lum = |col: usize, row: usize| f64::from(luminance(map.texel(col, row)) / map.scale);
+    let (mut sum, mut solid_angle) = (0.0, 0.0);
+    for row in 0..h {
+        for col in 0..w {
+            sum += lum(col, row) * sin_theta(row);
+            solid_angle += sin_theta(row);
+        }
+    }
+    let mean = sum / solid_angle;
+    let (mut zero, mut ratio) = (0, None::<f64>);
+    for row in 0..h {
+        for col in 0..w {
+            assert_eq!(c.texel(col, row), map.texel(col, row));
+            let pdf = f64::from(c.distribution.cell_pdf(col, row));
+            let weight = (lum(col, row) - mean).max(0.0) * sin_theta(row);
+            if weight <= 1e-6 * mean {
+                assert_eq!(pdf, 0.0, "texel ({col}, {row}) at or below the mean");
+                zero += 1;
+                continue;
+            }
+            let r = *ratio.get_or_insert(pdf / weight);
+            assert!((pdf / weight / r - 1.0).abs() < 1e-4, "texel ({col}, {row}): {} vs {r}", pdf / weight);
+        }
+    }
+    assert!(zero > w * h / 4 && zero < w * h, "{zero} of {} texels left to BSDF sampling", w * h);
+}
+
+/// A map without a texel above its mean has nothing left to sample, and so has a constant
+/// environment: under MIS they are left to BSDF sampling. Without MIS, or without
+/// compensation, the environment is sampled as it is.
+#[test]
+fn uniform_environments_are_left_to_bsdf_sampling() {
+    let uniform = EnvMap::new(8, 4, vec![[0.3, 0.5, 0.7, 0.0]; 32], 1.5, 10.0).unwrap();
+    assert!(uniform.mis_compensated().is_none());
+    let map = random_map(0.0);
+    let settings = |light_strategy, mis_compensation| IntegratorSettings {
+        light_strategy,
+        mis_compensation,
+        ..Default::default()
+    };
+    for env in [Environment::Map(uniform), Environment::Constant(Vec3::ONE), Environment::Map(map.clone())] {
+        let full = env.clone();
+        let is_random = env == Environment::Map(map.clone());
+        let (e, sampled) = env.for_integrator(&settings(LightStrategy::Mis, true));
+        assert_eq!(sampled, is_random);
+        assert_eq!(e == full, !is_random, "only the random map's distribution changes");
+        assert_eq!(env.for_integrator(&settings(LightStrategy::Mis, false)), (full.clone(), true));
+        assert_eq!(env.for_integrator(&settings(LightStrategy::Nee, true)), (full.clone(), true));
+        assert_eq!(env.for_integrator(&settings(LightStrategy::Bsdf, true)), (full, false));
+    }
+}
+
+/// MIS of the compensated map with cosine-weighted hemisphere sampling (what a diffuse
+/// BSDF does) estimates the irradiance `E = int L cos` without bias, where the compensated
+/// density alone is zero over most of the sphere, and with less variance than MIS with the
+/// full distribution.
+#[test]
+fn mis_with_the_compensated_map_is_unbiased() {
+    let map = random_map(25.0);
+    let n_up = Vec3::new(0.3, 0.8, -0.2).normalize();
+    let tangent = n_up.cross(Vec3::X).normalize();
+    let to_world = |l: Vec3| tangent * l.x + n_up.cross(tangent) * l.y + n_up * l.z;
+    // Exact: midpoint rule over the sphere in map (u, v), each point's nearest texel.
+    let (nu, nv) = (1024, 512);
+    let mut exact = 0.0f64;
+    for j in 0..nv {
+        let v = (j as f32 + 0.5) / nv as f32;
+        for i in 0..nu {
+            let d = Quat::from_rotation_y(map.rotation()) * uv_to_direction(Vec2::new((i as f32 + 0.5) / nu as f32, v));
+            let cos = d.dot(n_up).max(0.0);
+            exact += f64::from(luminance(map.radiance(d)) * cos * 2.0 * PI * PI * (PI * v).sin());
+        }
+    }
+    exact /= f64::from(nu * nv);
+    let power = |a: f32, b: f32| a * a / (a * a + b * b);
+    let mut errors = vec![];
+    for m in both_maps(25.0) {
+        let mut rng = Lcg(9);
+        let n = 200_000;
+        let (mut sum, mut sum2) = (0.0f64, 0.0f64);
+        for _ in 0..n {
+            let mut f = 0.0f32;
+            // Light sample.
+            let (d, pdf) = m.sample(rng.vec2());
+            let cos = d.dot(n_up);
+            if pdf > 0.0 && cos > 0.0 {
+                let pdf_bsdf = cos / PI;
+                f += luminance(m.radiance(d)) * cos / pdf * power(pdf, pdf_bsdf);
+            }
+            // Cosine-weighted sample.
+            let u = rng.vec2();
+            let r = u.x.sqrt();
+            let (s, c) = (2.0 * PI * u.y).sin_cos();
+            let local = Vec3::new(r * c, r * s, (1.0 - u.x).max(0.0).sqrt());
+            let d = to_world(local);
+            let pdf_bsdf = local.z / PI;
+            if pdf_bsdf > 0.0 {
+                f += luminance(m.radiance(d)) * local.z / pdf_bsdf * power(pdf_bsdf, m.pdf(d));
+            }
+            sum += f64::from(f);
+            sum2 += f64::from(f) * f64::from(f);
+        }
+        let mean = sum / f64::from(n);
+        let std_error = ((sum2 / f64::from(n) - mean * mean) / f64::from(n)).sqrt();
+        assert!((mean - exact).abs() < 4.0 * std_error + 1e-4 * exact, "{mean} vs {exact} (se {std_error})");
+        errors.push(std_error);
+    }
+    println!("standard error: full {:.3e}, compensated {:.3e}", errors[0], errors[1]);
+    assert!(errors[1] < errors[0], "compensation should lower the variance: {errors:?}");
 }
 
 #[test]

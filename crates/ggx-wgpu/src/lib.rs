@@ -207,7 +207,7 @@ mod tests {
             punctual_lights,
             punctual_count,
             emitters,
-            pad2,
+            env_light,
             pad3
         );
         assert_eq!(size_of::<Params>(), 256);

@@ -322,8 +322,9 @@ pub struct Params {
     /// Offset (words) of the emitters in [`SceneTables::surface`] (read only when
     /// [`Params::emitter_count`] is not 0).
     pub emitters: u32,
-    /// Padding.
-    pub pad2: u32,
+    /// 1 when next-event estimation samples the environment ([`Environment::for_integrator`]:
+    /// 0 for a constant or uniform one under MIS compensation).
+    pub env_light: u32,
     /// Padding.
     pub pad3: u32,
 }
@@ -410,7 +411,9 @@ impl SceneTables {
         }
         let mut table = Vec::new();
         params.light_cdf = push(&mut table, &scene.lights.distribution.cdf);
-        match &scene.environment {
+        let environment = scene.environment.as_ref().map(|e| e.for_integrator(it));
+        params.env_light = u32::from(environment.as_ref().is_some_and(|e| e.1));
+        match environment.as_ref().map(|e| &e.0) {
             None => {}
             Some(Environment::Constant(l)) => (params.env_kind, params.env_radiance) = (1, l.to_array()),
             Some(Environment::Map(m)) => {

@@ -110,7 +110,7 @@ impl EnvMap {
     pub(crate) fn try_new(
         width: u32,
         height: u32,
-        mut texels: Vec<[f32; 4]>,
+        texels: Vec<[f32; 4]>,
         scale: f32,
         rotation_degrees: f32,
     ) -> Result<Self, TexelError> {
@@ -122,22 +122,53 @@ impl EnvMap {
             return Err(TexelError::Scale(scale));
         }
         check_texels(width, &texels, scale)?;
-        let weights: Vec<f32> = texels
-            .iter()
-            .enumerate()
-            .map(|(i, t)| {
-                let sin_theta = (std::f64::consts::PI * ((i / w) as f64 + 0.5) / f64::from(height)).sin();
-                let luminance: f64 = LUMINANCE_WEIGHTS.iter().zip(t).map(|(w, &c)| w * f64::from(c)).sum();
-                (luminance * sin_theta).min(f64::from(f32::MAX)) as f32
-            })
-            .collect();
+        let weights: Vec<f32> = luminance_sin_theta(width, height, &texels).map(|x| to_weight(x.0 * x.1)).collect();
         let distribution = Distribution2D::new(width, height, &weights).ok_or(TexelError::Size)?;
-        for (i, t) in texels.iter_mut().enumerate() {
-            t[3] = distribution.cell_pdf(i % w, i / w);
-        }
         let rotation = rotation_degrees.to_radians();
         let (to_map, to_world) = (Quat::from_rotation_y(-rotation), Quat::from_rotation_y(rotation));
-        Ok(Self { width, height, texels, scale, rotation, distribution, to_map, to_world })
+        let mut map = Self { width, height, texels, scale, rotation, distribution, to_map, to_world };
+        map.write_cell_pdfs();
+        Ok(map)
+    }
+
+    /// Writes each cell's sampling density into its texel record's `w`.
+    fn write_cell_pdfs(&mut self) {
+        let w = self.width as usize;
+        for (i, t) in self.texels.iter_mut().enumerate() {
+            t[3] = self.distribution.cell_pdf(i % w, i / w);
+        }
+    }
+
+    /// The map sampled by its MIS-compensated distribution (Karlik et al. 2019, pbrt-v4's
+    /// `compensatedDistribution`): weights `max(L - mean L, 0) sin(theta)`, the mean over
+    /// solid angle. Next-event estimation then samples only what stands above the mean, and
+    /// BSDF sampling, which MIS combines with it, finds the rest. `None` when no texel is
+    /// brighter than the mean by more than a relative `1e-6` (a uniform map: BSDF sampling
+    /// alone is the better estimator). Radiance, rotation and scale are unchanged.
+    pub fn mis_compensated(&self) -> Option<EnvMap> {
+        let (mut sum, mut solid_angle) = (0.0f64, 0.0f64);
+        for (luminance, sin_theta) in luminance_sin_theta(self.width, self.height, &self.texels) {
+            sum += luminance * sin_theta;
+            solid_angle += sin_theta;
+        }
+        let mean = sum / solid_angle;
+        let threshold = mean * (1.0 + 1e-6);
+        let weights: Vec<f32> = luminance_sin_theta(self.width, self.height, &self.texels)
+            .map(
+                |(luminance, sin_theta)| {
+                    if luminance > threshold { to_weight((luminance - mean) * sin_theta) } else { 0.0 }
+                },
+            )
+            .collect();
+        if !weights.iter().any(|&x| x > 0.0) {
+            return None;
+        }
+        let distribution = Distribution2D::new(self.width, self.height, &weights)?;
+        let EnvMap { width, height, ref texels, scale, rotation, to_map, to_world, .. } = *self;
+        let texels = texels.clone();
+        let mut map = EnvMap { width, height, texels, scale, rotation, distribution, to_map, to_world };
+        map.write_cell_pdfs();
+        Some(map)
     }
 
     /// Rotation of the map about +y in radians: world direction = `R_y(rotation)` * map
@@ -220,6 +251,21 @@ impl EnvMap {
         let (col, row) = self.cell(d);
         self.texel_and_pdf(col, row, (1.0 - d.y * d.y).max(0.0).sqrt())
     }
+}
+
+/// Each texel's unscaled luminance and the sine of its row centre's polar angle, in `f64`.
+fn luminance_sin_theta(width: u32, height: u32, texels: &[[f32; 4]]) -> impl Iterator<Item = (f64, f64)> + '_ {
+    let w = width.max(1) as usize;
+    texels.iter().enumerate().map(move |(i, t)| {
+        let sin_theta = (std::f64::consts::PI * ((i / w) as f64 + 0.5) / f64::from(height)).sin();
+        let luminance: f64 = LUMINANCE_WEIGHTS.iter().zip(t).map(|(w, &c)| w * f64::from(c)).sum();
+        (luminance, sin_theta)
+    })
+}
+
+/// A sampling weight computed in `f64`, rounded once to `f32` (at most `f32::MAX`).
+fn to_weight(x: f64) -> f32 {
+    x.min(f64::from(f32::MAX)) as f32
 }
 
 /// Solid-angle density of a cell of density `cell_pdf` (over the unit square) at polar angle

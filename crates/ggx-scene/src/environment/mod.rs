@@ -16,6 +16,8 @@ use std::f32::consts::{FRAC_1_PI, PI, TAU};
 
 use glam::{Vec2, Vec3};
 
+use crate::{IntegratorSettings, LightStrategy};
+
 pub use build::MAX_PROCEDURAL_WIDTH;
 pub(crate) use build::{build, check_with_triangles};
 pub use load::{MAX_MAP_SIZE, load_image};
@@ -34,6 +36,27 @@ pub enum Environment {
 }
 
 impl Environment {
+    /// The environment as a renderer lights with it under `settings`, and whether
+    /// next-event estimation samples it. With MIS and `mis_compensation` (Karlik et al.
+    /// 2019, as pbrt-v4's `allowIncompletePDF`), a map samples only what stands above its
+    /// mean ([`EnvMap::mis_compensated`]) and a constant or uniform environment is left to
+    /// BSDF sampling alone: it takes no share of the light selection and its density in the
+    /// MIS weight of a BSDF sample is 0. Otherwise the environment as it is, sampled
+    /// whenever lights are.
+    pub fn for_integrator(&self, settings: &IntegratorSettings) -> (Environment, bool) {
+        let sampled = settings.light_strategy != LightStrategy::Bsdf;
+        if settings.light_strategy != LightStrategy::Mis || !settings.mis_compensation {
+            return (self.clone(), sampled);
+        }
+        match self {
+            Self::Map(m) => match m.mis_compensated() {
+                Some(c) => (Self::Map(c), true),
+                None => (self.clone(), false),
+            },
+            Self::Constant(_) => (self.clone(), false),
+        }
+    }
+
     /// Radiance arriving along `-direction` (i.e. seen looking towards unit `direction`).
     pub fn radiance(&self, direction: Vec3) -> Vec3 {
         match self {

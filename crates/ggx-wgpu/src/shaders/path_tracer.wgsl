@@ -449,14 +449,16 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
     let use_mis = params.light_strategy == LIGHT_MIS;
     let has_area = AREA && params.emitter_count > 0u;
     let has_env = ENV && params.env_kind != ENV_NONE;
+    // The environment takes part in next-event estimation (Environment::for_integrator).
+    let env_light = has_env && params.env_light != 0u;
     let has_punctual = AREA && params.punctual_count > 0u;
     // Area lights, punctual lights and the environment share the light selection equally.
-    let classes = select(0u, 1u, has_area) + select(0u, 1u, has_env) + select(0u, 1u, has_punctual);
+    let classes = select(0u, 1u, has_area) + select(0u, 1u, env_light) + select(0u, 1u, has_punctual);
     let p_class = select(0.0, 1.0 / f32(classes), classes > 0u);
     let p_area = select(0.0, p_class, has_area);
     let p_punctual = select(0.0, p_class, has_punctual);
-    let p_env = select(0.0, 1.0 - p_area - p_punctual, has_env);
-    let draw_light = use_nee && (has_area || has_env || has_punctual);
+    let p_env = select(0.0, 1.0 - p_area - p_punctual, env_light);
+    let draw_light = use_nee && (has_area || env_light || has_punctual);
     let draw_pick = use_nee && (has_area || has_punctual);
 
     var origin = origin_in;
@@ -664,7 +666,7 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
                         }
                     }
                 }
-            } else if ENV && has_env {
+            } else if ENV && env_light {
                 let sample = env_sample(s.light);
                 let wi_world = sample.wi;
                 let pdf_light = p_env * sample.pdf;

@@ -68,7 +68,7 @@ struct Params {
     punctual_lights: u32,
     punctual_count: u32,
     emitters: u32,
-    pad2: u32,
+    env_light: u32,
     pad3: u32,
 }
 
