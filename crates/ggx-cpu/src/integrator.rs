@@ -153,8 +153,8 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
     let use_mis = strategy == LightStrategy::Mis;
     let has_area = AREA && !scene.lights.is_empty();
     let has_env = ENV && scene.environment.is_some();
-    // The environment takes part in next-event estimation (not a constant one under MIS
-    // compensation: `Environment::for_integrator`).
+    // The environment takes part in next-event estimation (not a constant or uniform one
+    // under MIS compensation: `Environment::for_integrator`).
     let env_light = has_env && scene.environment_is_light;
     let has_punctual = AREA && !scene.punctual_lights.is_empty();
     // Probability of choosing each light type in next-event estimation: area lights, punctual

@@ -70,7 +70,7 @@ pub struct IntegratorSettings {
     /// `energy_compensation`, `None` keeps each material's own (default on).
     pub energy_compensation: Option<bool>,
     /// With `light_strategy = Mis`, next-event estimation samples the environment by its
-    /// MIS-compensated distribution ([`crate::Environment::for_light_strategy`]); default on.
+    /// MIS-compensated distribution ([`crate::Environment::for_integrator`]); default on.
     pub mis_compensation: bool,
 }
 

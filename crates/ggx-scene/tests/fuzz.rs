@@ -52,6 +52,7 @@ seed = 9
 sampler = "independent"
 bsdf_sampling = "spherical-caps"
 light_strategy = "nee"
+mis_compensation = false
 
 [materials.d]
 type = "diffuse"

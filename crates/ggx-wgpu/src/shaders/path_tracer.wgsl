@@ -459,6 +459,7 @@ fn trace(origin_in: vec3<f32>, dir_in: vec3<f32>, stream: ptr<function, SampleSt
     let p_punctual = select(0.0, p_class, has_punctual);
     let p_env = select(0.0, 1.0 - p_area - p_punctual, env_light);
     let draw_light = use_nee && (has_area || env_light || has_punctual);
+    // Area lights need the pick to choose an emitter even without another light type.
     let draw_pick = use_nee && (has_area || has_punctual);
 
     var origin = origin_in;
