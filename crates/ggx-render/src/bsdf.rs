@@ -188,7 +188,7 @@ impl Bsdf {
     }
 
     /// `f(wo, wi) |wi.z|`. Plastic: `f = f_coat + w(wo, wi) albedo / pi`, the coat's GGX
-    /// reflection plus a base weighted by [`Self::base_weight`]. Dielectric: both sides,
+    /// reflection plus a base weighted by `Self::base_weight`. Dielectric: both sides,
     /// transmission tinted by `transmittance`.
     #[inline]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {

@@ -16,7 +16,7 @@ pub struct Distribution1D {
     pub cdf: Vec<f32>,
     /// `integral = sum(func) / n`, the integral of the step function over `[0, 1)`.
     pub integral: f32,
-    /// Guide table over `cdf` ([`guide_table`]): `n` starting segments, one per `1/n` of `u`.
+    /// Guide table over `cdf` (`guide_table`): `n` starting segments, one per `1/n` of `u`.
     pub guide: Vec<u32>,
 }
 
@@ -140,7 +140,7 @@ pub struct Distribution2D {
     pub func: Vec<f32>,
     /// Row-major conditional CDFs, `(width + 1)` values per row.
     pub conditional_cdf: Vec<f32>,
-    /// Row-major guide tables over the conditional CDFs ([`guide_table`]), `width` per row.
+    /// Row-major guide tables over the conditional CDFs (`guide_table`), `width` per row.
     pub conditional_guide: Vec<u32>,
     /// Distribution over rows; `marginal.func[r]` is row `r`'s integral and
     /// `marginal.integral` the integral over the whole square.

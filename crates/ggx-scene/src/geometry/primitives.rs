@@ -13,7 +13,7 @@ fn face_uv(x: f32, y: f32) -> Vec2 {
 }
 
 /// The unit square `[-0.5, 0.5]^2` in the xy plane at z = 0, front face +z (2 triangles),
-/// the whole texture across it ([`face_uv`]).
+/// the whole texture across it (`face_uv`).
 pub fn rectangle() -> Geometry {
     let corners = [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)];
     Geometry {
@@ -28,7 +28,7 @@ pub fn rectangle() -> Geometry {
 ///
 /// Face `(axis a, sign s)`: centre `s/2 e_a`, spanned by `u = e_(a+1)`, `v = e_(a+2)` with
 /// `u x v = e_a`; the winding is flipped for `s < 0` so every normal points outwards. Each
-/// face holds the whole texture ([`face_uv`] of its `(u, v)` coordinates).
+/// face holds the whole texture (`face_uv` of its `(u, v)` coordinates).
 pub fn cube() -> Geometry {
     let mut g = Geometry { uvs: Some(Vec::new()), ..Geometry::default() };
     for axis in 0..3 {
