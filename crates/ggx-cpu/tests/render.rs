@@ -1,7 +1,8 @@
 //! End-to-end tests of the CPU renderer: every shipped scene renders, the white furnace
-//! vanishes, a disk light over a diffuse plane matches its closed form, every BSDF and light
-//! strategy converges to the same image, and the image is bit-identical whatever the thread
-//! count or kernel specialization.
+//! vanishes, a disk light over a diffuse plane matches its closed form on and off its axis,
+//! every BSDF and light strategy converges to the same image, MIS compensation changes the
+//! noise and not the image, and the image is bit-identical whatever the thread count or
+//! kernel specialization.
 
 mod support;
 
