@@ -150,7 +150,8 @@ fn environment(env: Option<&Environment>, settings: &IntegratorSettings) -> Stri
         Environment::Map(m) => format!("map {}x{}", m.width, m.height),
     };
     let compensated = settings.light_strategy == LightStrategy::Mis && settings.mis_compensation;
-    match env.for_integrator(settings) {
+    let (lit, sampled) = env.for_integrator(settings);
+    match (&*lit, sampled) {
         (Environment::Map(m), true) if compensated => {
             let sampled = m.distribution.func.iter().filter(|&&f| f > 0.0).count();
             let percent = 100.0 * sampled as f64 / m.distribution.func.len().max(1) as f64;

@@ -87,7 +87,7 @@ impl SceneData {
         let (environment, environment_is_light) = match &scene.environment {
             Some(e) => {
                 let (e, is_light) = e.for_integrator(&scene.integrator);
-                (Some(e), is_light)
+                (Some(e.into_owned()), is_light)
             }
             None => (None, false),
         };

@@ -413,7 +413,7 @@ impl SceneTables {
         params.light_cdf = push(&mut table, &scene.lights.distribution.cdf);
         let environment = scene.environment.as_ref().map(|e| e.for_integrator(it));
         params.env_light = u32::from(environment.as_ref().is_some_and(|e| e.1));
-        match environment.as_ref().map(|e| &e.0) {
+        match environment.as_ref().map(|e| &*e.0) {
             None => {}
             Some(Environment::Constant(l)) => (params.env_kind, params.env_radiance) = (1, l.to_array()),
             Some(Environment::Map(m)) => {

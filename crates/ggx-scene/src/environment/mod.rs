@@ -12,6 +12,7 @@ mod load;
 mod map;
 mod procedural;
 
+use std::borrow::Cow;
 use std::f32::consts::{FRAC_1_PI, PI, TAU};
 
 use glam::{Vec2, Vec3};
@@ -41,19 +42,19 @@ impl Environment {
     /// 2019, as pbrt-v4's `allowIncompletePDF`), a map samples only what stands above its
     /// mean ([`EnvMap::mis_compensated`]) and a constant or uniform environment is left to
     /// BSDF sampling alone: it takes no share of the light selection and its density in the
-    /// MIS weight of a BSDF sample is 0. Otherwise the environment as it is, sampled
-    /// whenever lights are.
-    pub fn for_integrator(&self, settings: &IntegratorSettings) -> (Environment, bool) {
+    /// MIS weight of a BSDF sample is 0. Otherwise the environment as it is (borrowed, not
+    /// copied), sampled whenever lights are.
+    pub fn for_integrator(&self, settings: &IntegratorSettings) -> (Cow<'_, Environment>, bool) {
         let sampled = settings.light_strategy != LightStrategy::Bsdf;
         if settings.light_strategy != LightStrategy::Mis || !settings.mis_compensation {
-            return (self.clone(), sampled);
+            return (Cow::Borrowed(self), sampled);
         }
         match self {
             Self::Map(m) => match m.mis_compensated() {
-                Some(c) => (Self::Map(c), true),
-                None => (self.clone(), false),
+                Some(c) => (Cow::Owned(Self::Map(c)), true),
+                None => (Cow::Borrowed(self), false),
             },
-            Self::Constant(_) => (self.clone(), false),
+            Self::Constant(_) => (Cow::Borrowed(self), false),
         }
     }
 
