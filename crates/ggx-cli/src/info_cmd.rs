@@ -149,7 +149,7 @@ fn environment(env: Option<&Environment>, settings: &IntegratorSettings) -> Stri
         Environment::Constant(l) => format!("constant {}", vec3(l.to_array())),
         Environment::Map(m) => format!("map {}x{}", m.width, m.height),
     };
-    let compensated = settings.light_strategy == LightStrategy::Mis && settings.mis_compensation;
+    let compensated = settings.compensates_mis();
     let (lit, sampled) = env.for_integrator(settings);
     match (&*lit, sampled) {
         (Environment::Map(m), true) if compensated => {

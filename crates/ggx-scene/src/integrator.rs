@@ -100,6 +100,12 @@ pub const MAX_DEPTH: u32 = 1024;
 pub const MAX_SEED: u64 = u32::MAX as u64;
 
 impl IntegratorSettings {
+    /// MIS compensation applies: `light_strategy = Mis` and `mis_compensation` on (the rule
+    /// [`crate::Environment::for_integrator`] follows).
+    pub fn compensates_mis(&self) -> bool {
+        self.light_strategy == LightStrategy::Mis && self.mis_compensation
+    }
+
     /// Validates `[integrator]`; absent keys take the [`Default`] values.
     pub(crate) fn from_raw(src: Source<'_>, raw: Option<&RawIntegrator>) -> Result<Self, SceneError> {
         let d = Self::default();

@@ -46,7 +46,7 @@ impl Environment {
     /// copied), sampled whenever lights are.
     pub fn for_integrator(&self, settings: &IntegratorSettings) -> (Cow<'_, Environment>, bool) {
         let sampled = settings.light_strategy != LightStrategy::Bsdf;
-        if settings.light_strategy != LightStrategy::Mis || !settings.mis_compensation {
+        if !settings.compensates_mis() {
             return (Cow::Borrowed(self), sampled);
         }
         match self {
