@@ -75,6 +75,13 @@ fn scalar(c: &mut Criterion) {
 type SampleFn = fn(&TrowbridgeReitz, Vec3Slices, &[f32], &[f32], Vec3SlicesMut, &mut [f32]) -> usize;
 /// `batch::eval`'s signature.
 type EvalFn = fn(&GgxConductor, Vec3Slices, Vec3Slices, Vec3SlicesMut);
+/// `batch::sample`'s signature.
+type SampleWeightedFn =
+    fn(&GgxConductor, Vec3Slices, &[f32], &[f32], Vec3SlicesMut, Vec3SlicesMut, &mut [f32]) -> usize;
+/// `batch::pdf`'s signature.
+type PdfFn = fn(&GgxConductor, Vec3Slices, Vec3Slices, &mut [f32]);
+/// `batch::d`'s signature.
+type DFn = fn(&TrowbridgeReitz, Vec3Slices, &mut [f32]);
 
 fn batched(c: &mut Criterion) {
     let v = inputs();
@@ -84,9 +91,11 @@ fn batched(c: &mut Criterion) {
     };
     let [ox, oy, oz] = split(&v.wo);
     let [ix, iy, iz] = split(&v.wi);
+    let [mx, my, mz] = split(&v.wm);
     let u0: Vec<f32> = v.u.iter().map(|u| u.x).collect();
     let u1: Vec<f32> = v.u.iter().map(|u| u.y).collect();
     let (mut rx, mut ry, mut rz, mut pdf) = (vec![0.0; N], vec![0.0; N], vec![0.0; N], vec![0.0; N]);
+    let (mut wx, mut wy, mut wz) = (vec![0.0; N], vec![0.0; N], vec![0.0; N]);
     let mut g = c.benchmark_group("batch");
     g.throughput(Throughput::Elements(N as u64));
     // The dispatched loops (the CPU's widest ISA) beside the same loops at the baseline ISA.
@@ -116,6 +125,38 @@ fn batched(c: &mut Criterion) {
                     Vec3SlicesMut { x: &mut rx, y: &mut ry, z: &mut rz },
                 )
             })
+        });
+    }
+    for (name, f) in [("sample", batch::sample as SampleWeightedFn), ("sample_portable", batch::sample_portable)] {
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                f(
+                    &brdf,
+                    Vec3Slices { x: black_box(&ox), y: &oy, z: &oz },
+                    &u0,
+                    &u1,
+                    Vec3SlicesMut { x: &mut rx, y: &mut ry, z: &mut rz },
+                    Vec3SlicesMut { x: &mut wx, y: &mut wy, z: &mut wz },
+                    &mut pdf,
+                )
+            })
+        });
+    }
+    for (name, f) in [("pdf", batch::pdf as PdfFn), ("pdf_portable", batch::pdf_portable)] {
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                f(
+                    &brdf,
+                    Vec3Slices { x: black_box(&ox), y: &oy, z: &oz },
+                    Vec3Slices { x: &ix, y: &iy, z: &iz },
+                    &mut pdf,
+                )
+            })
+        });
+    }
+    for (name, f) in [("D", batch::d as DFn), ("D_portable", batch::d_portable)] {
+        g.bench_function(name, |b| {
+            b.iter(|| f(&brdf.distribution, Vec3Slices { x: black_box(&mx), y: &my, z: &mz }, &mut pdf))
         });
     }
     g.finish();

@@ -1,21 +1,23 @@
 //! Slice (structure-of-arrays) versions of the hot functions. Each lane runs the scalar
-//! path's own functions ([`GgxConductor::eval`]'s body, the spherical-cap sampler and the
-//! reflection step of [`GgxConductor::sample`]), written branch-free (selects only, no calls
-//! into libm: the polynomial [`crate::math::sincos_2pi`]) so that LLVM auto-vectorizes the
-//! loops; slices are re-sliced to one common length so bounds checks vanish. One source, so
-//! every lane is the scalar result bit for bit (the tests check it over hostile input).
+//! path's own functions ([`GgxConductor::eval`]'s and [`GgxConductor::pdf`]'s bodies,
+//! [`TrowbridgeReitz::d`], the spherical-cap sampler and the reflection step of
+//! [`GgxConductor::sample`]), written branch-free (selects only, no calls into libm: the
+//! polynomial [`crate::math::sincos_2pi`]) so that LLVM auto-vectorizes the loops; slices are
+//! re-sliced to one common length so bounds checks vanish. One source, so every lane is the
+//! scalar result bit for bit (the tests check it over hostile input).
 //!
-//! With the `std` feature, [`sample_vndf`] and [`eval`] pick the widest vector ISA of the CPU
-//! at run time (`pulp`'s dispatch: x86-64-v4 with AVX-512, v3 with AVX2, else the baseline) and
-//! compile the same loop for it; [`sample_vndf_portable`] and [`eval_portable`] are the loops at
-//! the build's baseline ISA (what the dispatching functions run without `std`). Every lane is
-//! bit-identical whichever ISA runs it: Rust never contracts `a * b + c` into a fused
+//! With the `std` feature, [`d`], [`sample_vndf`], [`sample`], [`eval`] and [`pdf`] pick the
+//! widest vector ISA of the CPU at run time (`pulp`'s dispatch: x86-64-v4 with AVX-512, v3 with
+//! AVX2, else the baseline) and compile the same loop for it; the `*_portable` functions are the
+//! loops at the build's baseline ISA (what the dispatching functions run without `std`). Every
+//! lane is bit-identical whichever ISA runs it: Rust never contracts `a * b + c` into a fused
 //! multiply-add, and `sqrt` and `/` are correctly rounded at every width.
 //!
 //! Lanes whose sample is invalid (below the horizon, back-facing normal, degenerate input)
-//! get a zero direction and a zero pdf instead of an `Option`.
+//! get a zero direction, weight and pdf instead of an `Option`.
 
-use crate::conductor::reflect_about;
+use crate::conductor::formulas::{half_terms, pdf_vndf_of};
+use crate::conductor::{Reflected, reflect_about};
 use crate::fresnel::kind;
 use crate::{GgxConductor, Sampling, TrowbridgeReitz};
 use glam::{Vec2, Vec3};
@@ -41,6 +43,89 @@ pub struct Vec3SlicesMut<'a> {
     pub z: &'a mut [f32],
 }
 
+/// One batch loop: [`dispatched`] runs it for the CPU's widest ISA, [`portable`] at the
+/// build's baseline.
+trait BatchLoop {
+    /// What the loop returns.
+    type Output;
+    /// The loop, `#[inline(always)]` so that it is compiled for the caller's ISA; `ROUND`: the
+    /// ISA has SSE4.1's rounding instruction (`math::sincos_2pi_with`).
+    fn run<const ROUND: bool>(self) -> Self::Output;
+}
+
+/// `l` compiled for the widest ISA of this CPU (`pulp`'s dispatch) with `std`, else at the
+/// baseline.
+#[inline(always)]
+fn dispatched<L: BatchLoop>(l: L) -> L::Output {
+    #[cfg(feature = "std")]
+    {
+        pulp::Arch::new().dispatch(Dispatch(l))
+    }
+    #[cfg(not(feature = "std"))]
+    {
+        l.run::<false>()
+    }
+}
+
+/// `l` at the build's baseline ISA.
+#[inline(always)]
+fn portable<L: BatchLoop>(l: L) -> L::Output {
+    l.run::<false>()
+}
+
+/// A [`BatchLoop`] for `pulp`'s dispatch.
+#[cfg(feature = "std")]
+struct Dispatch<L>(L);
+
+#[cfg(feature = "std")]
+impl<L: BatchLoop> pulp::WithSimd for Dispatch<L> {
+    type Output = L::Output;
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> L::Output {
+        // Every dispatched ISA but the scalar fallback has SSE4.1's rounding instruction.
+        if S::IS_SCALAR { self.0.run::<false>() } else { self.0.run::<true>() }
+    }
+}
+
+/// The length every slice of a loop is cut to: the shortest.
+#[inline(always)]
+fn common_len<const N: usize>(lens: [usize; N]) -> usize {
+    lens.into_iter().min().unwrap_or(0)
+}
+
+/// `D(wm)` for a batch of microfacet normals (Trowbridge & Reitz 1975; Walter et al. 2007 eq.
+/// 33): [`TrowbridgeReitz::d`]'s values bit for bit, for any input (zero where `wm.z <= 0`).
+/// Processes `min` of all lengths.
+pub fn d(dist: &TrowbridgeReitz, wm: Vec3Slices, out: &mut [f32]) {
+    dispatched(D { dist, wm, out })
+}
+
+/// [`d`] at the build's baseline ISA, without run-time dispatch; the same lanes bit for bit.
+pub fn d_portable(dist: &TrowbridgeReitz, wm: Vec3Slices, out: &mut [f32]) {
+    portable(D { dist, wm, out })
+}
+
+/// The arguments of [`d`].
+struct D<'a, 'b> {
+    dist: &'a TrowbridgeReitz,
+    wm: Vec3Slices<'a>,
+    out: &'b mut [f32],
+}
+
+impl BatchLoop for D<'_, '_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<const ROUND: bool>(self) {
+        let n = common_len([self.wm.x.len(), self.wm.y.len(), self.wm.z.len(), self.out.len()]);
+        let (x, y, z, out) = (&self.wm.x[..n], &self.wm.y[..n], &self.wm.z[..n], &mut self.out[..n]);
+        for i in 0..n {
+            out[i] = self.dist.d(Vec3::new(x[i], y[i], z[i]));
+        }
+    }
+}
+
 /// Visible-normal sampling of reflected directions for a batch (spherical caps, Dupuy &
 /// Benyoub 2023, the same density as Heitz 2018): for each lane `i`, `wo[i]` (tangent space,
 /// normalized as [`GgxConductor::sample`] does) and `u0[i], u1[i]` give `wi[i]` and its density
@@ -59,14 +144,7 @@ pub fn sample_vndf(
     wi: Vec3SlicesMut,
     pdf: &mut [f32],
 ) -> usize {
-    #[cfg(feature = "std")]
-    {
-        pulp::Arch::new().dispatch(SampleVndf { dist, wo, u0, u1, wi, pdf })
-    }
-    #[cfg(not(feature = "std"))]
-    {
-        sample_vndf_lanes::<false>(dist, wo, u0, u1, wi, pdf)
-    }
+    dispatched(Sample { dist, wo, u0, u1, wi, pdf, weights: NoWeights })
 }
 
 /// [`sample_vndf`] at the build's baseline ISA, without run-time dispatch; the same lanes bit for bit.
@@ -78,102 +156,226 @@ pub fn sample_vndf_portable(
     wi: Vec3SlicesMut,
     pdf: &mut [f32],
 ) -> usize {
-    sample_vndf_lanes::<false>(dist, wo, u0, u1, wi, pdf)
+    portable(Sample { dist, wo, u0, u1, wi, pdf, weights: NoWeights })
 }
 
-/// The arguments of [`sample_vndf`], for `pulp`'s dispatch.
-#[cfg(feature = "std")]
-struct SampleVndf<'a, 'b> {
+/// [`sample_vndf`] with each sample's weight `f |wi.z| / pdf = F(wo . wm) G2 / G1(wo)` (Heitz
+/// 2018 eq. 19) written to `weight` as RGB: lane `i` is `GgxConductor::sample(wo[i], (u0[i],
+/// u1[i]), Sampling::SphericalCaps)`'s `wi`, `weight` and `pdf` bit for bit, and zeros where
+/// that returns `None` or a delta sample (a lobe below [`crate::DELTA_ALPHA`] is not sampled
+/// here). Processes `min` of all lengths and returns how many lanes got a valid sample; every
+/// output is finite for any input.
+pub fn sample(
+    brdf: &GgxConductor,
+    wo: Vec3Slices,
+    u0: &[f32],
+    u1: &[f32],
+    wi: Vec3SlicesMut,
+    weight: Vec3SlicesMut,
+    pdf: &mut [f32],
+) -> usize {
+    dispatched(SampleWeighted { brdf, wo, u0, u1, wi, weight, pdf })
+}
+
+/// [`sample`] at the build's baseline ISA, without run-time dispatch; the same lanes bit for bit.
+pub fn sample_portable(
+    brdf: &GgxConductor,
+    wo: Vec3Slices,
+    u0: &[f32],
+    u1: &[f32],
+    wi: Vec3SlicesMut,
+    weight: Vec3SlicesMut,
+    pdf: &mut [f32],
+) -> usize {
+    portable(SampleWeighted { brdf, wo, u0, u1, wi, weight, pdf })
+}
+
+/// Where a sampling loop puts each lane's weight.
+trait Weights {
+    /// Lanes it holds.
+    fn len(&self) -> usize;
+    /// Cuts it to `n <= len()` lanes.
+    fn truncate(&mut self, n: usize);
+    /// The weight of a reflected sample: `F(cos_om) * scale`.
+    fn of(&self, r: &Reflected) -> Vec3;
+    /// Stores lane `i`'s weight.
+    fn set(&mut self, i: usize, w: Vec3);
+}
+
+/// No weights: [`sample_vndf`].
+struct NoWeights;
+
+impl Weights for NoWeights {
+    #[inline(always)]
+    fn len(&self) -> usize {
+        usize::MAX
+    }
+
+    #[inline(always)]
+    fn truncate(&mut self, _n: usize) {}
+
+    #[inline(always)]
+    fn of(&self, _r: &Reflected) -> Vec3 {
+        Vec3::ONE
+    }
+
+    #[inline(always)]
+    fn set(&mut self, _i: usize, _w: Vec3) {}
+}
+
+/// RGB weights with the Fresnel term `fresnel(cos_om)`: [`sample`].
+struct RgbWeights<'b, F> {
+    fresnel: F,
+    out: Vec3SlicesMut<'b>,
+}
+
+impl<F: Fn(f32) -> Vec3> Weights for RgbWeights<'_, F> {
+    #[inline(always)]
+    fn len(&self) -> usize {
+        common_len([self.out.x.len(), self.out.y.len(), self.out.z.len()])
+    }
+
+    #[inline(always)]
+    fn truncate(&mut self, n: usize) {
+        let out = &mut self.out;
+        out.x = &mut core::mem::take(&mut out.x)[..n];
+        out.y = &mut core::mem::take(&mut out.y)[..n];
+        out.z = &mut core::mem::take(&mut out.z)[..n];
+    }
+
+    #[inline(always)]
+    fn of(&self, r: &Reflected) -> Vec3 {
+        (self.fresnel)(r.cos_om) * r.scale
+    }
+
+    #[inline(always)]
+    fn set(&mut self, i: usize, w: Vec3) {
+        self.out.x[i] = w.x;
+        self.out.y[i] = w.y;
+        self.out.z[i] = w.z;
+    }
+}
+
+/// The arguments of [`sample`].
+struct SampleWeighted<'a, 'b> {
+    brdf: &'a GgxConductor,
+    wo: Vec3Slices<'a>,
+    u0: &'a [f32],
+    u1: &'a [f32],
+    wi: Vec3SlicesMut<'b>,
+    weight: Vec3SlicesMut<'b>,
+    pdf: &'b mut [f32],
+}
+
+impl BatchLoop for SampleWeighted<'_, '_> {
+    type Output = usize;
+
+    /// The loop with the Fresnel term's kind chosen once for the batch (branch-free lanes):
+    /// `FresnelParams::eval` of that kind, the same function, so the same bits.
+    #[inline(always)]
+    fn run<const ROUND: bool>(self) -> usize {
+        let Self { brdf, wo, u0, u1, wi, weight, pdf } = self;
+        let (dist, f) = (&brdf.distribution, brdf.fresnel);
+        match f.kind {
+            kind::SCHLICK => {
+                let weights = RgbWeights { fresnel: |c| f.eval_as(kind::SCHLICK, c), out: weight };
+                Sample { dist, wo, u0, u1, wi, pdf, weights }.run::<ROUND>()
+            }
+            kind::CONDUCTOR => {
+                let weights = RgbWeights { fresnel: |c| f.eval_as(kind::CONDUCTOR, c), out: weight };
+                Sample { dist, wo, u0, u1, wi, pdf, weights }.run::<ROUND>()
+            }
+            kind::DIELECTRIC => {
+                let weights = RgbWeights { fresnel: |c| f.eval_as(kind::DIELECTRIC, c), out: weight };
+                Sample { dist, wo, u0, u1, wi, pdf, weights }.run::<ROUND>()
+            }
+            // kind::ONE and any unknown kind: F = 1.
+            _ => {
+                let weights = RgbWeights { fresnel: |c| f.eval_as(kind::ONE, c), out: weight };
+                Sample { dist, wo, u0, u1, wi, pdf, weights }.run::<ROUND>()
+            }
+        }
+    }
+}
+
+/// The sampling loop of [`sample_vndf`] and [`sample`].
+struct Sample<'a, 'b, W> {
     dist: &'a TrowbridgeReitz,
     wo: Vec3Slices<'a>,
     u0: &'a [f32],
     u1: &'a [f32],
     wi: Vec3SlicesMut<'b>,
     pdf: &'b mut [f32],
+    weights: W,
 }
 
-#[cfg(feature = "std")]
-impl pulp::WithSimd for SampleVndf<'_, '_> {
+impl<W: Weights> BatchLoop for Sample<'_, '_, W> {
     type Output = usize;
 
     #[inline(always)]
-    fn with_simd<S: pulp::Simd>(self, _simd: S) -> usize {
-        // Every dispatched ISA but the scalar fallback has SSE4.1's rounding instruction.
-        if S::IS_SCALAR {
-            sample_vndf_lanes::<false>(self.dist, self.wo, self.u0, self.u1, self.wi, self.pdf)
-        } else {
-            sample_vndf_lanes::<true>(self.dist, self.wo, self.u0, self.u1, self.wi, self.pdf)
+    fn run<const ROUND: bool>(self) -> usize {
+        let Self { dist, wo, u0, u1, wi, pdf, mut weights } = self;
+        let n = common_len([
+            wo.x.len(),
+            wo.y.len(),
+            wo.z.len(),
+            u0.len(),
+            u1.len(),
+            wi.x.len(),
+            wi.y.len(),
+            wi.z.len(),
+            pdf.len(),
+            weights.len(),
+        ]);
+        let (ox, oy, oz, u0, u1) = (&wo.x[..n], &wo.y[..n], &wo.z[..n], &u0[..n], &u1[..n]);
+        let (ix, iy, iz, pdf) = (&mut wi.x[..n], &mut wi.y[..n], &mut wi.z[..n], &mut pdf[..n]);
+        weights.truncate(n);
+        let delta = dist.is_effectively_smooth();
+        // The valid lanes are counted in u32 per chunk: a usize counter makes LLVM pick 8-lane
+        // vectors on AVX-512 (16 i64 lanes take two registers), a u32 one 16 lanes (+40-60 %).
+        let mut valid = 0usize;
+        let mut start = 0;
+        while start < n {
+            let end = n.min(start.saturating_add(COUNT_CHUNK));
+            let mut count = 0u32;
+            for i in start..end {
+                let wo = crate::math::normalize_or_zero(Vec3::new(ox[i], oy[i], oz[i]));
+                let wm = dist.sample_wm_spherical_caps_with::<ROUND>(wo, Vec2::new(u0[i], u1[i]));
+                let r = reflect_about(dist, wo, wm, Sampling::SphericalCaps);
+                let w = weights.of(&r);
+                // reflect_about's pdf is 0 for every invalid lane (wm = 0 where wo.z <= 0);
+                // GgxConductor::sample also refuses a non-finite weight.
+                let ok = !delta && r.pdf > 0.0 && w.is_finite();
+                ix[i] = if ok { r.wi.x } else { 0.0 };
+                iy[i] = if ok { r.wi.y } else { 0.0 };
+                iz[i] = if ok { r.wi.z } else { 0.0 };
+                pdf[i] = if ok { r.pdf } else { 0.0 };
+                weights.set(i, if ok { w } else { Vec3::ZERO });
+                count += ok as u32;
+            }
+            valid += count as usize;
+            start = end;
         }
+        valid
     }
 }
 
-/// The loop of [`sample_vndf`], inlined into each ISA's context; `ROUND`: floors by the
-/// rounding instruction (`math::sincos_2pi_with`), for ISAs that have one.
-#[inline(always)]
-fn sample_vndf_lanes<const ROUND: bool>(
-    dist: &TrowbridgeReitz,
-    wo: Vec3Slices,
-    u0: &[f32],
-    u1: &[f32],
-    wi: Vec3SlicesMut,
-    pdf: &mut [f32],
-) -> usize {
-    let n = [wo.x.len(), wo.y.len(), wo.z.len(), u0.len(), u1.len(), wi.x.len(), wi.y.len(), wi.z.len(), pdf.len()]
-        .into_iter()
-        .min()
-        .unwrap_or(0);
-    let (ox, oy, oz, u0, u1) = (&wo.x[..n], &wo.y[..n], &wo.z[..n], &u0[..n], &u1[..n]);
-    let (ix, iy, iz, pdf) = (&mut wi.x[..n], &mut wi.y[..n], &mut wi.z[..n], &mut pdf[..n]);
-    let delta = dist.is_effectively_smooth();
-    // The valid lanes are counted in u32 per chunk: a usize counter makes LLVM pick 8-lane
-    // vectors on AVX-512 (16 i64 lanes take two registers), a u32 one 16 lanes (+40-60 %).
-    let mut valid = 0usize;
-    let mut start = 0;
-    while start < n {
-        let end = n.min(start.saturating_add(COUNT_CHUNK));
-        let mut count = 0u32;
-        for i in start..end {
-            let wo = crate::math::normalize_or_zero(Vec3::new(ox[i], oy[i], oz[i]));
-            let wm = dist.sample_wm_spherical_caps_with::<ROUND>(wo, Vec2::new(u0[i], u1[i]));
-            let r = reflect_about(dist, wo, wm, Sampling::SphericalCaps);
-            // reflect_about's pdf is 0 for every invalid lane (wm = 0 where wo.z <= 0).
-            let ok = !delta && r.pdf > 0.0;
-            ix[i] = if ok { r.wi.x } else { 0.0 };
-            iy[i] = if ok { r.wi.y } else { 0.0 };
-            iz[i] = if ok { r.wi.z } else { 0.0 };
-            pdf[i] = if ok { r.pdf } else { 0.0 };
-            count += ok as u32;
-        }
-        valid += count as usize;
-        start = end;
-    }
-    valid
-}
-
-/// Lanes per `u32` count in [`sample_vndf_lanes`] (far below `u32::MAX`); the tests use a
+/// Lanes per `u32` count in [`Sample`]'s loop (far below `u32::MAX`); the tests use a
 /// small chunk so that their batches cross chunk boundaries.
 const COUNT_CHUNK: usize = if cfg!(test) { 1000 } else { 1 << 20 };
 
 /// `f(wo, wi) |wi.z|` for a batch, written to `out` as RGB: [`GgxConductor::eval`]'s values
 /// bit for bit, for any input. Processes `min` of all lengths.
 pub fn eval(brdf: &GgxConductor, wo: Vec3Slices, wi: Vec3Slices, out: Vec3SlicesMut) {
-    #[cfg(feature = "std")]
-    {
-        pulp::Arch::new().dispatch(Eval { brdf, wo, wi, out })
-    }
-    #[cfg(not(feature = "std"))]
-    {
-        eval_fresnel(brdf, wo, wi, out)
-    }
+    dispatched(Eval { brdf, wo, wi, out })
 }
 
 /// [`eval`] at the build's baseline ISA, without run-time dispatch; the same lanes bit for bit.
 pub fn eval_portable(brdf: &GgxConductor, wo: Vec3Slices, wi: Vec3Slices, out: Vec3SlicesMut) {
-    eval_fresnel(brdf, wo, wi, out)
+    portable(Eval { brdf, wo, wi, out })
 }
 
-/// The arguments of [`eval`], for `pulp`'s dispatch.
-#[cfg(feature = "std")]
+/// The arguments of [`eval`].
 struct Eval<'a, 'b> {
     brdf: &'a GgxConductor,
     wo: Vec3Slices<'a>,
@@ -181,27 +383,22 @@ struct Eval<'a, 'b> {
     out: Vec3SlicesMut<'b>,
 }
 
-#[cfg(feature = "std")]
-impl pulp::WithSimd for Eval<'_, '_> {
+impl BatchLoop for Eval<'_, '_> {
     type Output = ();
 
+    /// [`eval_lanes`] with the Fresnel term's kind chosen once for the batch, so that each loop
+    /// is branch-free: `FresnelParams::eval` of that kind (the same function, so the same bits).
     #[inline(always)]
-    fn with_simd<S: pulp::Simd>(self, _simd: S) {
-        eval_fresnel(self.brdf, self.wo, self.wi, self.out)
-    }
-}
-
-/// [`eval_lanes`] with the Fresnel term's kind chosen once for the batch, so that each loop is
-/// branch-free: `FresnelParams::eval` of that kind (the same function, so the same bits).
-#[inline(always)]
-fn eval_fresnel(brdf: &GgxConductor, wo: Vec3Slices, wi: Vec3Slices, out: Vec3SlicesMut) {
-    let f = brdf.fresnel;
-    match f.kind {
-        kind::SCHLICK => eval_lanes(brdf, wo, wi, out, |c| f.eval_as(kind::SCHLICK, c)),
-        kind::CONDUCTOR => eval_lanes(brdf, wo, wi, out, |c| f.eval_as(kind::CONDUCTOR, c)),
-        kind::DIELECTRIC => eval_lanes(brdf, wo, wi, out, |c| f.eval_as(kind::DIELECTRIC, c)),
-        // kind::ONE and any unknown kind: F = 1.
-        _ => eval_lanes(brdf, wo, wi, out, |c| f.eval_as(kind::ONE, c)),
+    fn run<const ROUND: bool>(self) {
+        let Self { brdf, wo, wi, out } = self;
+        let f = brdf.fresnel;
+        match f.kind {
+            kind::SCHLICK => eval_lanes(brdf, wo, wi, out, |c| f.eval_as(kind::SCHLICK, c)),
+            kind::CONDUCTOR => eval_lanes(brdf, wo, wi, out, |c| f.eval_as(kind::CONDUCTOR, c)),
+            kind::DIELECTRIC => eval_lanes(brdf, wo, wi, out, |c| f.eval_as(kind::DIELECTRIC, c)),
+            // kind::ONE and any unknown kind: F = 1.
+            _ => eval_lanes(brdf, wo, wi, out, |c| f.eval_as(kind::ONE, c)),
+        }
     }
 }
 
@@ -209,11 +406,17 @@ fn eval_fresnel(brdf: &GgxConductor, wo: Vec3Slices, wi: Vec3Slices, out: Vec3Sl
 /// context.
 #[inline(always)]
 fn eval_lanes(brdf: &GgxConductor, wo: Vec3Slices, wi: Vec3Slices, out: Vec3SlicesMut, fresnel: impl Fn(f32) -> Vec3) {
-    let n =
-        [wo.x.len(), wo.y.len(), wo.z.len(), wi.x.len(), wi.y.len(), wi.z.len(), out.x.len(), out.y.len(), out.z.len()]
-            .into_iter()
-            .min()
-            .unwrap_or(0);
+    let n = common_len([
+        wo.x.len(),
+        wo.y.len(),
+        wo.z.len(),
+        wi.x.len(),
+        wi.y.len(),
+        wi.z.len(),
+        out.x.len(),
+        out.y.len(),
+        out.z.len(),
+    ]);
     let (ox, oy, oz) = (&wo.x[..n], &wo.y[..n], &wo.z[..n]);
     let (ix, iy, iz) = (&wi.x[..n], &wi.y[..n], &wi.z[..n]);
     let (rx, ry, rz) = (&mut out.x[..n], &mut out.y[..n], &mut out.z[..n]);
@@ -224,6 +427,46 @@ fn eval_lanes(brdf: &GgxConductor, wo: Vec3Slices, wi: Vec3Slices, out: Vec3Slic
         rx[i] = v.x;
         ry[i] = v.y;
         rz[i] = v.z;
+    }
+}
+
+/// The visible-normal density of reflecting `wo` into `wi` for a batch, `D_wo(wm) / (4 wo.wm) =
+/// D(wm) / (2 (wo.z + so))` (Heitz 2018 eq. 17; the density of [`sample_vndf`] and [`sample`]):
+/// [`GgxConductor::pdf`]`(wo, wi, Sampling::Vndf)`'s values bit for bit, for any input (zero
+/// below either horizon, on a back-facing half vector and for a delta lobe). Processes `min` of
+/// all lengths.
+pub fn pdf(brdf: &GgxConductor, wo: Vec3Slices, wi: Vec3Slices, out: &mut [f32]) {
+    dispatched(Pdf { brdf, wo, wi, out })
+}
+
+/// [`pdf`] at the build's baseline ISA, without run-time dispatch; the same lanes bit for bit.
+pub fn pdf_portable(brdf: &GgxConductor, wo: Vec3Slices, wi: Vec3Slices, out: &mut [f32]) {
+    portable(Pdf { brdf, wo, wi, out })
+}
+
+/// The arguments of [`pdf`].
+struct Pdf<'a, 'b> {
+    brdf: &'a GgxConductor,
+    wo: Vec3Slices<'a>,
+    wi: Vec3Slices<'a>,
+    out: &'b mut [f32],
+}
+
+impl BatchLoop for Pdf<'_, '_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run<const ROUND: bool>(self) {
+        let Self { brdf, wo, wi, out } = self;
+        let n = common_len([wo.x.len(), wo.y.len(), wo.z.len(), wi.x.len(), wi.y.len(), wi.z.len(), out.len()]);
+        let (ox, oy, oz) = (&wo.x[..n], &wo.y[..n], &wo.z[..n]);
+        let (ix, iy, iz, out) = (&wi.x[..n], &wi.y[..n], &wi.z[..n], &mut out[..n]);
+        let (a, delta) = (brdf.distribution.widths(), brdf.is_delta());
+        for i in 0..n {
+            let t = half_terms(a, Vec3::new(ox[i], oy[i], oz[i]).into(), Vec3::new(ix[i], iy[i], iz[i]).into());
+            // GgxConductor::pdf's branches as selects: its density is 0 for a delta lobe.
+            out[i] = if delta { 0.0 } else { pdf_vndf_of(&t) };
+        }
     }
 }
 
@@ -320,7 +563,7 @@ mod tests {
     }
 
     /// The dispatched loops (the widest ISA of this CPU) give the baseline loops' lanes bit for
-    /// bit: over the alpha range, every Fresnel kind, and hostile lanes (NaN, infinities, zero,
+    /// bit, every batch function: over the alpha range, every Fresnel kind, and hostile lanes (NaN, infinities, zero,
     /// subnormal, non-unit, below the horizon).
     #[test]
     fn dispatched_lanes_are_the_portable_lanes_bit_for_bit() {
@@ -371,9 +614,38 @@ mod tests {
                     } else {
                         eval(&brdf, o, i, out)
                     }
-                    let all: Vec<Vec<u32>> = r.iter().chain(&e).map(|v| bits(v)).collect();
-                    assert!(r.iter().chain(&e).flatten().all(|x| x.is_finite()), "{ax} {ay} {fresnel:?}: finite lanes");
-                    (valid, all)
+                    // The weighted sampler, the pdf of the pairs and D of the wi lanes as normals.
+                    let mut w = [
+                        std::vec![0.0f32; 1000],
+                        std::vec![0.0; 1000],
+                        std::vec![0.0; 1000],
+                        std::vec![0.0; 1000],
+                        std::vec![0.0; 1000],
+                        std::vec![0.0; 1000],
+                        std::vec![0.0; 1000],
+                        std::vec![0.0; 1000],
+                        std::vec![0.0; 1000],
+                    ];
+                    let [sx, sy, sz, wx, wy, wz, sp, pp, dd] = &mut w;
+                    let s_wi = Vec3SlicesMut { x: sx, y: sy, z: sz };
+                    let s_w = Vec3SlicesMut { x: wx, y: wy, z: wz };
+                    let weighted = if portable {
+                        let v = sample_portable(&brdf, o, &u0, &u1, s_wi, s_w, sp);
+                        pdf_portable(&brdf, o, i, pp);
+                        d_portable(&brdf.distribution, i, dd);
+                        v
+                    } else {
+                        let v = sample(&brdf, o, &u0, &u1, s_wi, s_w, sp);
+                        super::pdf(&brdf, o, i, pp);
+                        d(&brdf.distribution, i, dd);
+                        v
+                    };
+                    let all: Vec<Vec<u32>> = r.iter().chain(&e).chain(&w).map(|v| bits(v)).collect();
+                    assert!(
+                        r.iter().chain(&e).chain(&w).flatten().all(|x| x.is_finite()),
+                        "{ax} {ay} {fresnel:?}: finite lanes"
+                    );
+                    (valid, weighted, all)
                 };
                 assert_eq!(run(false), run(true), "{ax} {ay} {fresnel:?}");
             }
@@ -427,6 +699,106 @@ mod tests {
                 }
                 assert_eq!(nonzero > 1500, !brdf.is_delta(), "{ax} {ay}: {nonzero} non-zero lanes");
             }
+        }
+    }
+
+    /// Every lane of `sample` is `GgxConductor::sample(.., SphericalCaps)`'s `wi`, weight and
+    /// pdf bit for bit (zeros where it returns `None` or a delta), for every Fresnel kind, over
+    /// the alpha range and hostile lanes.
+    #[test]
+    fn batch_weighted_sampling_is_the_scalar_sampler_bit_for_bit() {
+        let (mut wo, mut u) = lanes(3000);
+        for (i, &x) in HOSTILE.iter().enumerate() {
+            wo[100 + i] = Vec3::new(x, 0.3, 0.5);
+            wo[120 + i] = Vec3::new(0.1, 0.2, x);
+            wo[140 + i] = Vec3::new(0.6, 0.8, 0.0) * (1.0 + x);
+            u[160 + i] = Vec2::new(x, 0.4);
+            u[180 + i] = Vec2::new(0.7, x);
+        }
+        wo[200] = Vec3::new(1.0, 0.0, 1e-7);
+        wo[201] = Vec3::new(0.0, 3.0, 4.0);
+        let col = |f: fn(&Vec3) -> f32| -> Vec<f32> { wo.iter().map(f).collect() };
+        let (x, y, z) = (col(|w| w.x), col(|w| w.y), col(|w| w.z));
+        let (u0, u1): (Vec<f32>, Vec<f32>) = (u.iter().map(|v| v.x).collect(), u.iter().map(|v| v.y).collect());
+        let bits = |v: Vec3| v.to_array().map(f32::to_bits);
+        let fresnels = [
+            Fresnel::One,
+            Fresnel::Schlick { f0: Vec3::new(0.9, 0.6, 0.3) },
+            Fresnel::Conductor { eta: Vec3::new(0.2, 0.9, 1.1), k: Vec3::new(3.9, 2.4, 2.2) },
+            Fresnel::Dielectric { eta: 1.5 },
+        ];
+        for (ax, ay) in
+            [(1e-4f32, 1e-4f32), (9.99e-4, 5e-4), (1e-3, 1e-3), (0.01, 0.002), (0.3, 0.3), (0.05, 0.5), (1.0, 1.0)]
+        {
+            for fresnel in fresnels {
+                let brdf = GgxConductor::new(ax, ay, fresnel);
+                let mut o = [(); 7].map(|_| std::vec![9.0f32; 3000]);
+                let [rx, ry, rz, wx, wy, wz, pdf] = &mut o;
+                let valid = sample(
+                    &brdf,
+                    Vec3Slices { x: &x, y: &y, z: &z },
+                    &u0,
+                    &u1,
+                    Vec3SlicesMut { x: rx, y: ry, z: rz },
+                    Vec3SlicesMut { x: wx, y: wy, z: wz },
+                    pdf,
+                );
+                let mut scalar_valid = 0;
+                for i in 0..3000 {
+                    let s = brdf.sample(wo[i], u[i], Sampling::SphericalCaps).filter(|s| !s.is_delta);
+                    let (want_wi, want_w, want_pdf) =
+                        s.map_or((Vec3::ZERO, Vec3::ZERO, 0.0), |s| (s.wi, s.weight, s.pdf));
+                    scalar_valid += s.is_some() as usize;
+                    let (got_wi, got_w) = (Vec3::new(rx[i], ry[i], rz[i]), Vec3::new(wx[i], wy[i], wz[i]));
+                    assert_eq!(
+                        (bits(got_wi), bits(got_w), pdf[i].to_bits()),
+                        (bits(want_wi), bits(want_w), want_pdf.to_bits()),
+                        "{ax} {ay} {fresnel:?} lane {i}: wo {:?} u {:?}",
+                        wo[i],
+                        u[i]
+                    );
+                }
+                assert_eq!(valid, scalar_valid, "{ax} {ay} {fresnel:?}");
+                assert_eq!(valid > 1500, !brdf.is_delta(), "{ax} {ay}: {valid} valid lanes");
+            }
+        }
+    }
+
+    /// Every lane of `pdf` is `GgxConductor::pdf(.., Vndf)` (the same density as
+    /// `SphericalCaps`) and every lane of `d` is `TrowbridgeReitz::d`, bit for bit, over the
+    /// alpha range and hostile lanes (grazing, back-facing half vectors, below the horizon).
+    #[test]
+    fn batch_pdf_and_d_are_the_scalar_functions_bit_for_bit() {
+        let (mut wo, u) = lanes(2048);
+        let mut wi: Vec<Vec3> = u.iter().map(|&v| crate::warp::sample_cosine_hemisphere(v)).collect();
+        wi[3] = Vec3::new(-wo[3].x, -wo[3].y, 1e-7).normalize();
+        wi[4] = Vec3::new(1.0, 0.0, 1e-30);
+        wi[5] = Vec3::new(0.0, 3.0, 4.0);
+        wi[6] = Vec3::new(0.1, 0.2, -0.9);
+        for (i, &x) in HOSTILE.iter().enumerate() {
+            wo[10 + i] = Vec3::new(x, 0.3, 0.5);
+            wi[30 + i] = Vec3::new(0.2, x, 0.4);
+            wi[50 + i] = Vec3::splat(x);
+        }
+        let col = |v: &Vec<Vec3>, f: fn(&Vec3) -> f32| -> Vec<f32> { v.iter().map(f).collect() };
+        let (ox, oy, oz) = (col(&wo, |w| w.x), col(&wo, |w| w.y), col(&wo, |w| w.z));
+        let (ix, iy, iz) = (col(&wi, |w| w.x), col(&wi, |w| w.y), col(&wi, |w| w.z));
+        for (ax, ay) in [(0.2f32, 0.6f32), (1e-4, 1e-4), (9e-4, 5e-4), (1e-3, 1e-3), (0.004, 0.02), (1.0, 1.0)] {
+            let brdf = GgxConductor::new(ax, ay, Fresnel::One);
+            let (mut p, mut dd) = (std::vec![9.0; 2048], std::vec![9.0; 2048]);
+            pdf(&brdf, Vec3Slices { x: &ox, y: &oy, z: &oz }, Vec3Slices { x: &ix, y: &iy, z: &iz }, &mut p);
+            // The wi lanes as microfacet normals (some below the horizon: D = 0 there).
+            d(&brdf.distribution, Vec3Slices { x: &ix, y: &iy, z: &iz }, &mut dd);
+            let mut positive = 0;
+            for i in 0..2048 {
+                let want = brdf.pdf(wo[i], wi[i], Sampling::Vndf);
+                assert_eq!(p[i].to_bits(), want.to_bits(), "{ax} {ay} lane {i}: {} vs {want}", p[i]);
+                assert_eq!(want.to_bits(), brdf.pdf(wo[i], wi[i], Sampling::SphericalCaps).to_bits(), "lane {i}");
+                let want_d = brdf.distribution.d(wi[i]);
+                assert_eq!(dd[i].to_bits(), want_d.to_bits(), "{ax} {ay} lane {i}: D {} vs {want_d}", dd[i]);
+                positive += (want > 0.0) as usize;
+            }
+            assert_eq!(positive > 1500, !brdf.is_delta(), "{ax} {ay}: {positive} positive lanes");
         }
     }
 }

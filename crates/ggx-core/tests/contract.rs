@@ -1238,6 +1238,71 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(config())]
+
+    /// Lane by lane `GgxConductor::sample(.., SphericalCaps)`'s `wi`, weight and pdf (zeros
+    /// where it returns `None` or a delta sample) for `min` of the lengths, all finite; the
+    /// count of valid lanes; later lanes untouched.
+    #[test]
+    fn batch_sample(b in raw_brdf(), wo in dir_lanes(), u0 in lanes(), u1 in lanes(), drop in 0usize..2, extra in 0usize..3) {
+        let [ox, oy, oz] = split(&wo, drop);
+        let n_out = wo.len() + extra;
+        let mut out = [(); 7].map(|_| vec![9.0f32; n_out]);
+        let [x, y, z, wx, wy, wz, p] = &mut out;
+        let valid = batch::sample(
+            &b,
+            Vec3Slices { x: &ox, y: &oy, z: &oz },
+            &u0,
+            &u1,
+            Vec3SlicesMut { x, y, z },
+            Vec3SlicesMut { x: wx, y: wy, z: wz },
+            p,
+        );
+        let n = [ox.len(), oy.len(), oz.len(), u0.len(), u1.len()].into_iter().min().unwrap();
+        let mut scalar_valid = 0;
+        for i in 0..n {
+            let s = b.sample(Vec3::new(ox[i], oy[i], oz[i]), Vec2::new(u0[i], u1[i]), Sampling::SphericalCaps).filter(|s| !s.is_delta);
+            scalar_valid += s.is_some() as usize;
+            let (wi, w, pdf) = s.map_or((Vec3::ZERO, Vec3::ZERO, 0.0), |s| (s.wi, s.weight, s.pdf));
+            let (got_wi, got_w) = (Vec3::new(x[i], y[i], z[i]), Vec3::new(wx[i], wy[i], wz[i]));
+            prop_assert!(same3(got_wi, wi) && same3(got_w, w) && same(p[i], pdf), "{b:?} lane {i}: {got_wi:?} {got_w:?} {} vs {wi:?} {w:?} {pdf}", p[i]);
+            prop_assert!(got_wi.is_finite() && ok3(got_w) && ok(p[i]), "{b:?} lane {i}");
+        }
+        prop_assert_eq!(valid, scalar_valid);
+        prop_assert!(out.iter().all(|v| v[n..].iter().all(|&x| x == 9.0)), "{b:?}: lanes past {n} written");
+    }
+
+    /// Lane by lane `GgxConductor::pdf(.., Vndf)` for `min` of the lengths, finite and >= 0.
+    #[test]
+    fn batch_pdf(b in raw_brdf(), wo in dir_lanes(), wi in dir_lanes(), drop in 0usize..2) {
+        let [ox, oy, oz] = split(&wo, drop);
+        let [ix, iy, iz] = split(&wi, 0);
+        let mut p = vec![9.0; wo.len().max(wi.len())];
+        batch::pdf(&b, Vec3Slices { x: &ox, y: &oy, z: &oz }, Vec3Slices { x: &ix, y: &iy, z: &iz }, &mut p);
+        let n = [ox.len(), oy.len(), oz.len(), ix.len(), iy.len(), iz.len()].into_iter().min().unwrap();
+        for i in 0..n {
+            let want = b.pdf(Vec3::new(ox[i], oy[i], oz[i]), wi[i], Sampling::Vndf);
+            prop_assert!(same(p[i], want) && ok(p[i]), "{b:?} lane {i}: {} vs {want}", p[i]);
+        }
+        prop_assert!(p[n..].iter().all(|&x| x == 9.0));
+    }
+
+    /// Lane by lane `TrowbridgeReitz::d` for `min` of the lengths, finite and >= 0.
+    #[test]
+    fn batch_d(t in raw_dist(), wm in dir_lanes(), drop in 0usize..2) {
+        let [x, y, z] = split(&wm, drop);
+        let mut out = vec![9.0; wm.len()];
+        batch::d(&t, Vec3Slices { x: &x, y: &y, z: &z }, &mut out);
+        let n = [x.len(), y.len(), z.len()].into_iter().min().unwrap();
+        for i in 0..n {
+            let want = t.d(wm[i]);
+            prop_assert!(same(out[i], want) && ok(out[i]), "{t:?} lane {i}: {} vs {want}", out[i]);
+        }
+        prop_assert!(out[n..].iter().all(|&v| v == 9.0));
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // energy, Fresnel averages, GgxConductorMs
 // ---------------------------------------------------------------------------------------------

@@ -47,6 +47,16 @@ pub(crate) fn reflection_of<L: Lanes>(a: Widths<L>, t: &HalfTerms<L>) -> L {
     L::select(ok, f.finite_or_zero(), zero)
 }
 
+/// The visible-normal density of the pair from its shared terms, `D(wm) / (2 (wo.z + so))`
+/// (Heitz 2018 eq. 17 with `G1(wo) = 2 wo.z / (wo.z + so)`), 0 below either horizon or for `wo . wm <= 0`.
+#[inline(always)]
+pub(crate) fn pdf_vndf_of<L: Lanes>(t: &HalfTerms<L>) -> L {
+    let pdf = t.d / (L::splat(2.0) * (t.wo.z + t.so));
+    let zero = L::splat(0.0);
+    let ok = t.wo.z.gt(zero) & t.wi.z.gt(zero) & t.cos_om.gt(zero);
+    L::select(ok, pdf.finite_or_zero(), zero)
+}
+
 /// `2 (|wi.z| s(wo) + |wo.z| s(wi))`: the shared denominator of `eval` and every weight,
 /// from `G2 / (4 zo zi) = 1 / (2 (zi so + zo si))` (for directions above the horizon).
 #[inline(always)]

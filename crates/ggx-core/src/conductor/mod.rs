@@ -189,7 +189,7 @@ impl GgxConductor {
         }
         let pdf = match sampling {
             Sampling::Ndf => d.pdf_wm_ndf(wm) / (4.0 * cos_om),
-            Sampling::Vndf | Sampling::SphericalCaps => t.d / (2.0 * (wo.z + t.so)),
+            Sampling::Vndf | Sampling::SphericalCaps => formulas::pdf_vndf_of(t),
             Sampling::Bounded => d.pdf_wi_bounded(wo, wm),
             Sampling::Cosine => warp::pdf_cosine_hemisphere(wi),
             Sampling::Uniform => warp::pdf_uniform_hemisphere(wi),
