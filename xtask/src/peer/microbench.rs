@@ -30,15 +30,23 @@ pub const BATCH_VNDF: Op = Op {
     mitsuba: "sample_reflect",
 };
 
-/// The rows of the table.
-pub const OPS: [Op; 7] = [
-    Op { label: "D(m)", ggx: "scalar/D", mitsuba: "D" },
-    Op { label: "visible normal (m, pdf)", ggx: "scalar/sample_wm_vndf", mitsuba: "sample_wm_vndf" },
+/// The rows of the table: ggx-core's batch (SoA) functions, and its scalar functions (one
+/// direction at a time) where Mitsuba's kernel computes the same quantity.
+pub const OPS: [Op; 10] = [
+    Op { label: "D(m) (ggx: scalar)", ggx: "scalar/D", mitsuba: "D" },
+    Op { label: "D(m) (ggx: batch SoA)", ggx: "batch/D", mitsuba: "D" },
+    Op { label: "visible normal (m, pdf) (ggx: scalar)", ggx: "scalar/sample_wm_vndf", mitsuba: "sample_wm_vndf" },
     BATCH_VNDF,
     Op { label: "f cos, F = 1 (ggx: batch SoA)", ggx: "batch/eval", mitsuba: "eval" },
     Op { label: "f cos, F = 1 (ggx: scalar)", ggx: "scalar/eval", mitsuba: "eval" },
-    Op { label: "pdf, VNDF", ggx: "scalar/pdf_vndf", mitsuba: "pdf" },
-    Op { label: "BSDF sample with weight, VNDF", ggx: "scalar/sample_vndf", mitsuba: "sample" },
+    Op { label: "pdf, VNDF (ggx: batch SoA)", ggx: "batch/pdf", mitsuba: "pdf" },
+    Op { label: "pdf, VNDF (ggx: scalar)", ggx: "scalar/pdf_vndf", mitsuba: "pdf" },
+    Op {
+        label: "BSDF sample with weight, VNDF (ggx: batch SoA, spherical caps)",
+        ggx: "batch/sample",
+        mitsuba: "sample",
+    },
+    Op { label: "BSDF sample with weight, VNDF (ggx: scalar)", ggx: "scalar/sample_vndf", mitsuba: "sample" },
 ];
 
 /// The criterion filter selecting [`OPS`]' ggx benchmarks.
@@ -119,7 +127,8 @@ mod tests {
 
     #[test]
     fn the_filter_matches_exactly_the_rows() {
-        assert!(filter().starts_with("^(scalar/D|scalar/sample_wm_vndf|batch/sample_vndf|"), "{}", filter());
+        assert!(filter().starts_with("^(scalar/D|batch/D|scalar/sample_wm_vndf|batch/sample_vndf|"), "{}", filter());
+        assert!(filter().ends_with("|batch/sample|scalar/sample_vndf)$"), "{}", filter());
         assert_eq!(regex_escape("a.b(c)"), "a\\.b\\(c\\)");
     }
 }

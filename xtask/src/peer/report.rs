@@ -628,6 +628,6 @@ pub(super) mod tests {
             mitsuba: vec![(1, Micro { per_second: [("D".to_string(), 1e9)].into_iter().collect() })],
         });
         assert!(m.starts_with("operation,ggx_id,ggx_per_second_1t,mitsuba_op,mitsuba_per_second_1t\n"), "{m}");
-        assert!(m.contains("D(m),scalar/D,200000000,D,1000000000\n"), "{m}");
+        assert!(m.contains("D(m) (ggx: scalar),scalar/D,200000000,D,1000000000\n"), "{m}");
     }
 }
