@@ -15,6 +15,45 @@
 //!
 //! Lanes whose sample is invalid (below the horizon, back-facing normal, degenerate input)
 //! get a zero direction, weight and pdf instead of an `Option`.
+//!
+//! ```
+//! use ggx_core::batch::{self, Vec3Slices, Vec3SlicesMut};
+//! use ggx_core::{Fresnel, GgxConductor, Sampling, Vec2, Vec3};
+//!
+//! // Four views (tangent space, +z up), one per lane, and two random numbers per lane.
+//! let (wo_x, wo_y, wo_z) = ([0.0, 0.3, -0.5, 0.0], [0.0, 0.1, 0.2, 0.6], [1.0, 0.9, 0.8, -0.8]);
+//! let (u0, u1) = ([0.1, 0.5, 0.9, 0.3], [0.7, 0.2, 0.4, 0.6]);
+//! let gold = Fresnel::Conductor { eta: Vec3::new(0.143, 0.374, 1.442), k: Vec3::new(3.983, 2.385, 1.603) };
+//! let brdf = GgxConductor::isotropic(0.3, gold);
+//! let (mut wi, mut weight, mut pdf) = ([[0.0f32; 4]; 3], [[0.0f32; 4]; 3], [0.0f32; 4]);
+//! let [wx, wy, wz] = &mut wi;
+//! let [fx, fy, fz] = &mut weight;
+//! let wo = Vec3Slices { x: &wo_x, y: &wo_y, z: &wo_z };
+//! let valid = batch::sample(
+//!     &brdf,
+//!     wo,
+//!     &u0,
+//!     &u1,
+//!     Vec3SlicesMut { x: wx, y: wy, z: wz },
+//!     Vec3SlicesMut { x: fx, y: fy, z: fz },
+//!     &mut pdf,
+//! );
+//! // The last view is below the horizon: its lane is zero.
+//! assert_eq!(valid, 3);
+//! assert_eq!((wi[0][3], wi[1][3], wi[2][3], pdf[3]), (0.0, 0.0, 0.0, 0.0));
+//! // Each lane is the scalar sampler's result, bit for bit.
+//! for i in 0..3 {
+//!     let wo = Vec3::new(wo_x[i], wo_y[i], wo_z[i]);
+//!     let s = brdf.sample(wo, Vec2::new(u0[i], u1[i]), Sampling::SphericalCaps).unwrap();
+//!     assert_eq!(Vec3::new(wi[0][i], wi[1][i], wi[2][i]), s.wi);
+//!     assert_eq!(Vec3::new(weight[0][i], weight[1][i], weight[2][i]), s.weight);
+//!     assert_eq!(pdf[i], s.pdf);
+//! }
+//! // The density of those pairs, without sampling (`GgxConductor::pdf`, the same density).
+//! let mut density = [0.0f32; 4];
+//! batch::pdf(&brdf, wo, Vec3Slices { x: &wi[0], y: &wi[1], z: &wi[2] }, &mut density);
+//! assert!((0..3).all(|i| (density[i] - pdf[i]).abs() <= 1e-4 * pdf[i]));
+//! ```
 
 use crate::conductor::formulas::{half_terms, pdf_vndf_of};
 use crate::conductor::{Reflected, reflect_about};
