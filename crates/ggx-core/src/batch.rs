@@ -535,12 +535,18 @@ mod tests {
     /// Hostile lanes: NaN, infinities, zeros, subnormals, values just below one, huge values.
     const HOSTILE: [f32; 8] = [f32::NAN, f32::INFINITY, -f32::INFINITY, 0.0, -0.0, 1e-40, ONE_MINUS_EPSILON, 3e38];
 
-    /// Every lane of `sample_vndf` is `GgxConductor::sample(.., SphericalCaps)`'s `wi` and pdf
-    /// bit for bit (zeros where it returns `None` or a delta), over the whole alpha range and
-    /// hostile lanes: the batch runs the scalar path's own functions.
-    #[test]
-    fn batch_sampling_is_the_scalar_spherical_caps_sampler_bit_for_bit() {
-        let (mut wo, mut u) = lanes(4096);
+    /// Every Fresnel kind.
+    const FRESNELS: [Fresnel; 4] = [
+        Fresnel::One,
+        Fresnel::Schlick { f0: Vec3::new(0.9, 0.6, 0.3) },
+        Fresnel::Conductor { eta: Vec3::new(0.2, 0.9, 1.1), k: Vec3::new(3.9, 2.4, 2.2) },
+        Fresnel::Dielectric { eta: 1.5 },
+    ];
+
+    /// `n` views and random pairs for the samplers, with hostile views and numbers in lanes
+    /// 100-187 and grazing and non-unit views in lanes 200 and 201.
+    fn sampling_lanes(n: usize) -> (Vec<Vec3>, Vec<Vec2>) {
+        let (mut wo, mut u) = lanes(n);
         for (i, &x) in HOSTILE.iter().enumerate() {
             wo[100 + i] = Vec3::new(x, 0.3, 0.5);
             wo[120 + i] = Vec3::new(0.1, 0.2, x);
@@ -548,17 +554,29 @@ mod tests {
             u[160 + i] = Vec2::new(x, 0.4);
             u[180 + i] = Vec2::new(0.7, x);
         }
-        // Grazing and non-unit views.
         wo[200] = Vec3::new(1.0, 0.0, 1e-7);
         wo[201] = Vec3::new(0.0, 3.0, 4.0);
+        (wo, u)
+    }
+
+    /// The x, y and z columns of `v`.
+    fn columns(v: &[Vec3]) -> [Vec<f32>; 3] {
+        [v.iter().map(|w| w.x).collect(), v.iter().map(|w| w.y).collect(), v.iter().map(|w| w.z).collect()]
+    }
+
+    /// Every lane of `sample_vndf` is `GgxConductor::sample(.., SphericalCaps)`'s `wi` and pdf
+    /// bit for bit (zeros where it returns `None` or a delta), over the whole alpha range and
+    /// hostile lanes: the batch runs the scalar path's own functions.
+    #[test]
+    fn batch_sampling_is_the_scalar_spherical_caps_sampler_bit_for_bit() {
+        let (wo, u) = sampling_lanes(4096);
         // The whole alpha range: deltas (below 1e-3, where the scalar pdf is 0), the threshold,
         // near-mirrors, anisotropic and rough lobes.
         let alphas = [(1e-4f32, 1e-4f32), (5e-4, 9e-4), (9.99e-4, 9.99e-4), (1e-3, 1e-3), (0.0011, 0.0011)];
         let bits = |v: Vec3| v.to_array().map(f32::to_bits);
         for (ax, ay) in alphas.into_iter().chain([(0.01, 0.002), (0.3, 0.3), (0.05, 0.5), (1.0, 1.0)]) {
             let brdf = GgxConductor::new(ax, ay, Fresnel::One);
-            let (x, y, z): (Vec<f32>, Vec<f32>, Vec<f32>) =
-                (wo.iter().map(|w| w.x).collect(), wo.iter().map(|w| w.y).collect(), wo.iter().map(|w| w.z).collect());
+            let [x, y, z] = columns(&wo);
             let (u0, u1): (Vec<f32>, Vec<f32>) = (u.iter().map(|v| v.x).collect(), u.iter().map(|v| v.y).collect());
             let (mut rx, mut ry, mut rz, mut pdf) =
                 (std::vec![9.0; 4096], std::vec![9.0; 4096], std::vec![9.0; 4096], std::vec![9.0; 4096]);
@@ -618,20 +636,13 @@ mod tests {
         for (i, &x) in HOSTILE.iter().enumerate() {
             (u0[80 + i], u1[90 + i]) = (x, x);
         }
-        let col = |v: &Vec<Vec3>, f: fn(&Vec3) -> f32| -> Vec<f32> { v.iter().map(f).collect() };
-        let (ox, oy, oz) = (col(&wo, |w| w.x), col(&wo, |w| w.y), col(&wo, |w| w.z));
-        let (ix, iy, iz) = (col(&wi, |w| w.x), col(&wi, |w| w.y), col(&wi, |w| w.z));
+        let [ox, oy, oz] = columns(&wo);
+        let [ix, iy, iz] = columns(&wi);
         let bits = |v: &[f32]| -> Vec<u32> { v.iter().map(|x| x.to_bits()).collect() };
-        let fresnels = [
-            Fresnel::One,
-            Fresnel::Schlick { f0: Vec3::new(0.9, 0.6, 0.3) },
-            Fresnel::Conductor { eta: Vec3::new(0.2, 0.9, 1.1), k: Vec3::new(3.9, 2.4, 2.2) },
-            Fresnel::Dielectric { eta: 1.5 },
-        ];
         let alphas =
             [(1e-4f32, 1e-4f32), (9.99e-4, 5e-4), (1e-3, 1e-3), (0.01, 0.002), (0.3, 0.3), (0.05, 0.5), (1.0, 1.0)];
         for (ax, ay) in alphas {
-            for fresnel in fresnels {
+            for fresnel in FRESNELS {
                 let brdf = GgxConductor::new(ax, ay, fresnel);
                 let run = |portable: bool| {
                     let mut r =
@@ -706,17 +717,10 @@ mod tests {
             wi[30 + i] = Vec3::new(0.2, x, 0.4);
             wi[50 + i] = Vec3::splat(x);
         }
-        let col = |v: &Vec<Vec3>, f: fn(&Vec3) -> f32| -> Vec<f32> { v.iter().map(f).collect() };
-        let (ox, oy, oz) = (col(&wo, |w| w.x), col(&wo, |w| w.y), col(&wo, |w| w.z));
-        let (ix, iy, iz) = (col(&wi, |w| w.x), col(&wi, |w| w.y), col(&wi, |w| w.z));
-        let fresnels = [
-            Fresnel::One,
-            Fresnel::Schlick { f0: Vec3::new(0.9, 0.6, 0.3) },
-            Fresnel::Conductor { eta: Vec3::new(0.2, 0.9, 1.1), k: Vec3::new(3.9, 2.4, 2.2) },
-            Fresnel::Dielectric { eta: 1.5 },
-        ];
+        let [ox, oy, oz] = columns(&wo);
+        let [ix, iy, iz] = columns(&wi);
         for (ax, ay) in [(0.2f32, 0.6f32), (1e-4, 1e-4), (9e-4, 5e-4), (1e-3, 1e-3), (0.004, 0.02), (1.0, 1.0)] {
-            for fresnel in fresnels {
+            for fresnel in FRESNELS {
                 let brdf = GgxConductor::new(ax, ay, fresnel);
                 let (mut r, mut g, mut b) = (std::vec![9.0; 2048], std::vec![9.0; 2048], std::vec![9.0; 2048]);
                 eval(
@@ -746,30 +750,14 @@ mod tests {
     /// the alpha range and hostile lanes.
     #[test]
     fn batch_weighted_sampling_is_the_scalar_sampler_bit_for_bit() {
-        let (mut wo, mut u) = lanes(3000);
-        for (i, &x) in HOSTILE.iter().enumerate() {
-            wo[100 + i] = Vec3::new(x, 0.3, 0.5);
-            wo[120 + i] = Vec3::new(0.1, 0.2, x);
-            wo[140 + i] = Vec3::new(0.6, 0.8, 0.0) * (1.0 + x);
-            u[160 + i] = Vec2::new(x, 0.4);
-            u[180 + i] = Vec2::new(0.7, x);
-        }
-        wo[200] = Vec3::new(1.0, 0.0, 1e-7);
-        wo[201] = Vec3::new(0.0, 3.0, 4.0);
-        let col = |f: fn(&Vec3) -> f32| -> Vec<f32> { wo.iter().map(f).collect() };
-        let (x, y, z) = (col(|w| w.x), col(|w| w.y), col(|w| w.z));
+        let (wo, u) = sampling_lanes(3000);
+        let [x, y, z] = columns(&wo);
         let (u0, u1): (Vec<f32>, Vec<f32>) = (u.iter().map(|v| v.x).collect(), u.iter().map(|v| v.y).collect());
         let bits = |v: Vec3| v.to_array().map(f32::to_bits);
-        let fresnels = [
-            Fresnel::One,
-            Fresnel::Schlick { f0: Vec3::new(0.9, 0.6, 0.3) },
-            Fresnel::Conductor { eta: Vec3::new(0.2, 0.9, 1.1), k: Vec3::new(3.9, 2.4, 2.2) },
-            Fresnel::Dielectric { eta: 1.5 },
-        ];
         for (ax, ay) in
             [(1e-4f32, 1e-4f32), (9.99e-4, 5e-4), (1e-3, 1e-3), (0.01, 0.002), (0.3, 0.3), (0.05, 0.5), (1.0, 1.0)]
         {
-            for fresnel in fresnels {
+            for fresnel in FRESNELS {
                 let brdf = GgxConductor::new(ax, ay, fresnel);
                 let mut o = [(); 7].map(|_| std::vec![9.0f32; 3000]);
                 let [rx, ry, rz, wx, wy, wz, pdf] = &mut o;
@@ -819,9 +807,8 @@ mod tests {
             wi[30 + i] = Vec3::new(0.2, x, 0.4);
             wi[50 + i] = Vec3::splat(x);
         }
-        let col = |v: &Vec<Vec3>, f: fn(&Vec3) -> f32| -> Vec<f32> { v.iter().map(f).collect() };
-        let (ox, oy, oz) = (col(&wo, |w| w.x), col(&wo, |w| w.y), col(&wo, |w| w.z));
-        let (ix, iy, iz) = (col(&wi, |w| w.x), col(&wi, |w| w.y), col(&wi, |w| w.z));
+        let [ox, oy, oz] = columns(&wo);
+        let [ix, iy, iz] = columns(&wi);
         for (ax, ay) in [(0.2f32, 0.6f32), (1e-4, 1e-4), (9e-4, 5e-4), (1e-3, 1e-3), (0.004, 0.02), (1.0, 1.0)] {
             let brdf = GgxConductor::new(ax, ay, Fresnel::One);
             let (mut p, mut dd) = (std::vec![9.0; 2048], std::vec![9.0; 2048]);
