@@ -313,27 +313,24 @@ impl BatchLoop for SampleWeighted<'_, '_> {
     /// `FresnelParams::eval` of that kind, the same function, so the same bits.
     #[inline(always)]
     fn run<const ROUND: bool>(self) -> usize {
-        let Self { brdf, wo, u0, u1, wi, weight, pdf } = self;
-        let (dist, f) = (&brdf.distribution, brdf.fresnel);
+        let f = self.brdf.fresnel;
         match f.kind {
-            kind::SCHLICK => {
-                let weights = RgbWeights { fresnel: |c| f.eval_as(kind::SCHLICK, c), out: weight };
-                Sample { dist, wo, u0, u1, wi, pdf, weights }.run::<ROUND>()
-            }
-            kind::CONDUCTOR => {
-                let weights = RgbWeights { fresnel: |c| f.eval_as(kind::CONDUCTOR, c), out: weight };
-                Sample { dist, wo, u0, u1, wi, pdf, weights }.run::<ROUND>()
-            }
-            kind::DIELECTRIC => {
-                let weights = RgbWeights { fresnel: |c| f.eval_as(kind::DIELECTRIC, c), out: weight };
-                Sample { dist, wo, u0, u1, wi, pdf, weights }.run::<ROUND>()
-            }
+            kind::SCHLICK => self.with_fresnel::<ROUND>(|c| f.eval_as(kind::SCHLICK, c)),
+            kind::CONDUCTOR => self.with_fresnel::<ROUND>(|c| f.eval_as(kind::CONDUCTOR, c)),
+            kind::DIELECTRIC => self.with_fresnel::<ROUND>(|c| f.eval_as(kind::DIELECTRIC, c)),
             // kind::ONE and any unknown kind: F = 1.
-            _ => {
-                let weights = RgbWeights { fresnel: |c| f.eval_as(kind::ONE, c), out: weight };
-                Sample { dist, wo, u0, u1, wi, pdf, weights }.run::<ROUND>()
-            }
+            _ => self.with_fresnel::<ROUND>(|c| f.eval_as(kind::ONE, c)),
         }
+    }
+}
+
+impl SampleWeighted<'_, '_> {
+    /// [`Sample`]'s loop with RGB weights of the Fresnel term `fresnel(cos(wo, wm))`.
+    #[inline(always)]
+    fn with_fresnel<const ROUND: bool>(self, fresnel: impl Fn(f32) -> Vec3) -> usize {
+        let Self { brdf, wo, u0, u1, wi, weight, pdf } = self;
+        let weights = RgbWeights { fresnel, out: weight };
+        Sample { dist: &brdf.distribution, wo, u0, u1, wi, pdf, weights }.run::<ROUND>()
     }
 }
 
