@@ -126,8 +126,8 @@ fn method(md: &mut String, o: &Options, m: &Machine) {
     );
     let wgpu = if m.adapter.is_some() {
         format!(
-            " The wgpu ladder stops at {} spp: a software adapter such as lavapipe is 25 to 35x slower than \
-             the CPU renderer.",
+            " The wgpu ladder stops at {} spp: a software adapter such as lavapipe is many times slower \
+             than the CPU renderer (the tables' samples/s column says by how much).",
             o.wgpu_max_spp
         )
     } else {
