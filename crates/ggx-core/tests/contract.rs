@@ -1211,7 +1211,8 @@ proptest! {
         prop_assert!(valid == c.0 && bits(&x) == bits(&c.1) && bits(&y) == bits(&c.2) && bits(&z) == bits(&c.3) && bits(&p) == bits(&c.4), "{t:?}");
     }
 
-    /// Finite, non-negative RGB for `min` of the lengths; as `constructed`.
+    /// Finite, non-negative RGB for `min` of the lengths, lane by lane the scalar `eval`; as
+    /// `constructed`.
     #[test]
     fn batch_eval(b in raw_brdf(), wo in dir_lanes(), wi in dir_lanes(), drop in 0usize..2) {
         let [ox, oy, oz] = split(&wo, drop);
@@ -1230,7 +1231,11 @@ proptest! {
         let (r, g, bl) = run(&b);
         let n = [ox.len(), oy.len(), oz.len(), ix.len(), iy.len(), iz.len()].into_iter().min().unwrap();
         for i in 0..n {
-            prop_assert!(ok3(Vec3::new(r[i], g[i], bl[i])), "{b:?} lane {i}: {} {} {}", r[i], g[i], bl[i]);
+            let v = Vec3::new(r[i], g[i], bl[i]);
+            prop_assert!(ok3(v), "{b:?} lane {i}: {v:?}");
+            // Lane by lane the scalar eval, bit for bit.
+            let want = b.eval(Vec3::new(ox[i], oy[i], oz[i]), wi[i]);
+            prop_assert!(same3(v, want), "{b:?} lane {i}: {v:?} vs {want:?}");
         }
         let c = run(&constructed_brdf(b));
         let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();

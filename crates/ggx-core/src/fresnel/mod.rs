@@ -187,10 +187,12 @@ impl Fresnel {
     }
 }
 
-/// Clamps into `[0, 1]`, NaN to 0.
+/// Clamps into `[0, 1]`, NaN and `-0.0` to `+0.0`. A select rather than `max(0.0)`, whose
+/// result for `-0.0` depends on the instruction LLVM picks (a vectorized batch loop returned
+/// `+0.0` where the scalar code returned `-0.0`: found by `contract::batch_sample`).
 #[inline(always)]
 fn unit(x: f32) -> f32 {
-    x.max(0.0).min(1.0)
+    if x > 0.0 { x.min(1.0) } else { 0.0 }
 }
 
 #[cfg(test)]
