@@ -1116,6 +1116,8 @@ pub(super) fn specs() -> Vec<Spec> {
         (NAN, 1.0),
         (1.0, NAN),
         (INF, 1.0),
+        // Unphysical: the denominator vanishes (infinite or huge; 1 where not finite).
+        (-1.0, 0.0),
     ];
     let complex = FRESNEL_COS
         .into_iter()
