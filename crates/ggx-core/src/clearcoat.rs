@@ -12,6 +12,8 @@ use crate::math::{normalize_or_zero, sanitize_u};
 use crate::metal_rough::GltfMetalRough;
 use crate::sampling::Sampling;
 use glam::{Vec2, Vec3};
+// Fields and results are clamped to [0, 1], -0.0 and NaN read as +0.0.
+use crate::math::saturate as unit;
 
 /// The coat's normal-incidence reflectance, `((1 - ior) / (1 + ior))^2` at the extension's fixed
 /// `ior = 1.5` (`KHR_materials_clearcoat`, `fresnel_coat`).
@@ -23,12 +25,6 @@ pub const P_COAT_MIN: f32 = 0.05;
 /// Largest probability with which [`GltfClearcoat::sample`] draws the coat lobe (the base keeps
 /// at least `1 - P_COAT_MAX`).
 pub const P_COAT_MAX: f32 = 0.95;
-
-/// `x` clamped to `[0, 1]`, NaN -> 0 (how every field is read).
-#[inline(always)]
-fn unit(x: f32) -> f32 {
-    x.max(0.0).min(1.0)
-}
 
 /// `fr(mu) = 0.04 + 0.96 (1 - |mu|)^5`, KHR_materials_clearcoat `fresnel_coat` ([`fresnel_schlick`]
 /// at [`CLEARCOAT_F0`]); in `[0.04, 1]`, NaN `mu` -> 1.

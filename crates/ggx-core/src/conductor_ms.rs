@@ -8,6 +8,8 @@ use crate::sampling::Sampling;
 use crate::warp;
 use core::f32::consts::FRAC_1_PI;
 use glam::{Vec2, Vec3};
+// Fields and results are clamped to [0, 1], -0.0 and NaN read as +0.0.
+use crate::math::saturate as unit;
 
 /// [`GgxConductor`] with the multiple-scattering lobe of Kulla & Conty 2017:
 ///
@@ -31,12 +33,6 @@ pub struct GgxConductorMs {
     pub f_avg: [f32; 3],
     /// Non-zero: add the multiple-scattering lobe; 0: behave exactly as `conductor`.
     pub compensation: u32,
-}
-
-/// `x` clamped to `[0, 1]`, NaN -> 0.
-#[inline(always)]
-fn unit(x: f32) -> f32 {
-    x.max(0.0).min(1.0)
 }
 
 impl GgxConductorMs {

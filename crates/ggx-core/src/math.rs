@@ -31,6 +31,14 @@ pub fn safe_sqrt(x: f32) -> f32 {
     Lanes::safe_sqrt(x)
 }
 
+/// `x` clamped to `[0, 1]` (HLSL's `saturate`), NaN and `-0.0` to `+0.0`: a select, so every
+/// ISA and vector width returns the same bits (`x.max(0.0)` may keep `-0.0` in scalar code and
+/// not in a vectorized loop).
+#[inline(always)]
+pub fn saturate(x: f32) -> f32 {
+    if x > 0.0 { x.min(1.0) } else { 0.0 }
+}
+
 /// `x` if it is finite, else 0.
 #[inline(always)]
 pub fn finite_or_zero(x: f32) -> f32 {

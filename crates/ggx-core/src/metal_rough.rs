@@ -14,6 +14,8 @@ use crate::sampling::Sampling;
 use crate::warp;
 use core::f32::consts::FRAC_1_PI;
 use glam::{Vec2, Vec3};
+// Fields and results are clamped to [0, 1], -0.0 and NaN read as +0.0.
+use crate::math::saturate as unit;
 
 /// The index of refraction of glTF's core material (`KHR_materials_ior`'s default): `f0 = 0.04`.
 pub const DEFAULT_IOR: f32 = 1.5;
@@ -29,12 +31,6 @@ const P_LOBE_MIN: f32 = 0.1;
 #[inline(always)]
 fn finite_or(x: f32, default: f32) -> f32 {
     if x.is_finite() { x } else { default }
-}
-
-/// `x` clamped to `[0, 1]`, NaN -> 0 (how every field is read).
-#[inline(always)]
-fn unit(x: f32) -> f32 {
-    x.max(0.0).min(1.0)
 }
 
 /// `[f32; 3]` as a vector with every component through [`unit`].

@@ -9,6 +9,8 @@ mod formulas;
 pub use formulas::{fresnel_complex, fresnel_dielectric, fresnel_schlick};
 
 use glam::Vec3;
+// Fields and results are clamped to [0, 1], -0.0 and NaN read as +0.0.
+use crate::math::saturate as unit;
 
 /// A Fresnel model. Reflectances are RGB; every evaluation returns values in `[0, 1]`.
 #[derive(Clone, Copy, PartialEq)]
@@ -185,14 +187,6 @@ impl Fresnel {
     pub fn eval(&self, cos_theta: f32) -> Vec3 {
         FresnelParams::from(*self).eval(cos_theta)
     }
-}
-
-/// Clamps into `[0, 1]`, NaN and `-0.0` to `+0.0`. A select rather than `max(0.0)`, whose
-/// result for `-0.0` depends on the instruction LLVM picks (a vectorized batch loop returned
-/// `+0.0` where the scalar code returned `-0.0`: found by `contract::batch_sample`).
-#[inline(always)]
-fn unit(x: f32) -> f32 {
-    if x > 0.0 { x.min(1.0) } else { 0.0 }
 }
 
 #[cfg(test)]
