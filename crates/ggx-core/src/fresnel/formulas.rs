@@ -43,8 +43,9 @@ pub fn fresnel_dielectric(cos_theta_i: f32, eta: f32) -> f32 {
 
 /// Conductor reflectance for complex IOR `eta + i k` (pbrt-v4 `FrComplex`): Snell's law and
 /// the Fresnel equations in complex arithmetic, `(|r_par|^2 + |r_perp|^2) / 2`, cos clamped
-/// to `[0, 1]`. Returns 1 where the result is undefined: NaN parameters, or an unphysical
-/// `eta + i k` (negative `eta`) whose denominator vanishes (`-1 + 0i`: infinite).
+/// to `[0, 1]`. Returns 1 where the result is not a reflectance: NaN parameters, or an
+/// unphysical `eta + i k` near `-1 + 0i`, whose denominators cancel to rounding noise (infinite,
+/// or finite and huge). For `eta, k >= 0` the value is in `[0, 1]` (a rounding above 1 reads 1).
 #[inline]
 pub fn fresnel_complex(cos_theta_i: f32, eta: f32, k: f32) -> f32 {
     fresnel_complex_lanes(cos_theta_i.max(0.0).min(1.0), eta, k)
@@ -69,5 +70,6 @@ fn fresnel_complex_lanes<L: Lanes>(cos_i: L, eta: L, k: L) -> L {
     let r_par = eta.mul(ci).sub(cos_t).div(eta.mul(ci).add(cos_t));
     let r_perp = ci.sub(eta.mul(cos_t)).div(ci.add(eta.mul(cos_t)));
     let f = L::splat(0.5) * (r_par.norm() + r_perp.norm());
-    L::select(f.is_finite(), f, L::splat(1.0))
+    // `f <= 1` is false for NaN and +inf.
+    L::select(L::splat(1.0).ge(f), f, L::splat(1.0))
 }

@@ -171,11 +171,14 @@ fn vec3a_lanes_are_f32_lanes() {
     }
 }
 
-/// An unphysical `eta = -1 + 0i` makes a denominator vanish: the result is 1 (undefined), not
-/// infinite, in the scalar function and on RGB lanes (the contract fuzz's witness included).
+/// An unphysical `eta` near `-1 + 0i` makes the denominators cancel: the result is 1, not
+/// infinite (the contract fuzz's witness) nor huge rounding noise (4e14 at cos 0.3), in the
+/// scalar function and on RGB lanes.
 #[test]
 fn conductor_with_a_vanishing_denominator_is_one() {
-    for (c, eta, k) in [(1.0f32, -1.0f32, 0.0f32), (0.625_026_17, -0.999_999_94, 3.537_849_6e-23)] {
+    let cases =
+        [(1.0f32, -1.0f32, 0.0f32), (0.3, -1.0, 0.0), (0.1, -1.0, 0.0), (0.625_026_17, -0.999_999_94, 3.537_849_6e-23)];
+    for (c, eta, k) in cases {
         assert_eq!(fresnel_complex(c, eta, k), 1.0, "{c} {eta} {k}: {}", fresnel_complex(c, eta, k));
         let rgb = formulas::fresnel_complex_rgb(c, Vec3::splat(eta), Vec3::splat(k));
         assert_eq!(rgb, Vec3::ONE, "{c} {eta} {k}");

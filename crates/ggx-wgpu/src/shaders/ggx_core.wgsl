@@ -576,7 +576,7 @@ fn fresnel_dielectric(cos_theta_i: f32, eta_in: f32) -> f32 {
     let r_par = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
     let r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
     let f = 0.5 * (r_par * r_par + r_perp * r_perp);
-    return select(1.0, f, is_finite(f));
+    return select(f, 1.0, is_nan(f));
 }
 
 // F = (|r_par|^2 + |r_perp|^2) / 2 for complex eta + i k, cos clamped to [0, 1]; pbrt-v4 FrComplex.
@@ -590,7 +590,8 @@ fn fresnel_complex(cos_theta_i: f32, eta_re: f32, k: f32) -> f32 {
     let r_par = complex_div(complex_sub(complex_mul(eta, ci), cos_t), complex_add(complex_mul(eta, ci), cos_t));
     let r_perp = complex_div(complex_sub(ci, complex_mul(eta, cos_t)), complex_add(ci, complex_mul(eta, cos_t)));
     let f = 0.5 * (complex_norm(r_par) + complex_norm(r_perp));
-    return select(1.0, f, is_finite(f));
+    // 1 unless f <= 1 (NaN, inf and the huge noise of an unphysical eta near -1 + 0i).
+    return select(1.0, f, is_finite(f) && f <= 1.0);
 }
 
 // clamp(x, 0, 1), NaN -> 0 (fresnel/mod.rs `unit`).
