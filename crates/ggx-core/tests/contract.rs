@@ -639,12 +639,11 @@ proptest! {
         prop_assert!(unit_interval(f), "{c} {eta} -> {f}");
     }
 
-    /// Finite and `>= 0` for any input; in [0, 1] for `eta >= 0`, `k >= 0`.
+    /// In [0, 1] for any input.
     #[test]
     fn fresnel_fresnel_complex(c in any_f32(), eta in field(), k in field()) {
         let f = fresnel_complex(c, eta, k);
-        prop_assert!(ok(f), "{c} {eta} {k} -> {f}");
-        prop_assert!(!(eta >= 0.0 && k >= 0.0) || f <= 1.0 + 1e-6, "{c} {eta} {k} -> {f}");
+        prop_assert!(unit_interval(f), "{c} {eta} {k} -> {f}");
     }
 
     #[test]
@@ -1252,12 +1251,14 @@ proptest! {
 
     /// Lane by lane `GgxConductor::sample(.., SphericalCaps)`'s `wi`, weight and pdf (zeros
     /// where it returns `None` or a delta sample) for `min` of the lengths, all finite; the
-    /// count of valid lanes; later lanes untouched.
+    /// count of valid lanes; later lanes untouched, whichever slice is the shortest.
     #[test]
-    fn batch_sample(b in raw_brdf(), wo in dir_lanes(), u0 in lanes(), u1 in lanes(), drop in 0usize..2, extra in 0usize..3) {
+    fn batch_sample(b in raw_brdf(), wo in dir_lanes(), u0 in lanes(), u1 in lanes(), drop in 0usize..2, extra in 0usize..3, short in 0usize..3) {
         let [ox, oy, oz] = split(&wo, drop);
         let n_out = wo.len() + extra;
         let mut out = [(); 7].map(|_| vec![9.0f32; n_out]);
+        // One output may be the shortest slice: a weight channel.
+        out[5].truncate(wo.len().saturating_sub(short));
         let [x, y, z, wx, wy, wz, p] = &mut out;
         let valid = batch::sample(
             &b,
@@ -1268,7 +1269,7 @@ proptest! {
             Vec3SlicesMut { x: wx, y: wy, z: wz },
             p,
         );
-        let n = [ox.len(), oy.len(), oz.len(), u0.len(), u1.len()].into_iter().min().unwrap();
+        let n = [ox.len(), oy.len(), oz.len(), u0.len(), u1.len(), wz.len()].into_iter().min().unwrap();
         let mut scalar_valid = 0;
         for i in 0..n {
             let s = b.sample(Vec3::new(ox[i], oy[i], oz[i]), Vec2::new(u0[i], u1[i]), Sampling::SphericalCaps).filter(|s| !s.is_delta);
@@ -1284,12 +1285,12 @@ proptest! {
 
     /// Lane by lane `GgxConductor::pdf(.., Vndf)` for `min` of the lengths, finite and >= 0.
     #[test]
-    fn batch_pdf(b in raw_brdf(), wo in dir_lanes(), wi in dir_lanes(), drop in 0usize..2) {
+    fn batch_pdf(b in raw_brdf(), wo in dir_lanes(), wi in dir_lanes(), drop in 0usize..2, short in 0usize..3) {
         let [ox, oy, oz] = split(&wo, drop);
         let [ix, iy, iz] = split(&wi, 0);
-        let mut p = vec![9.0; wo.len().max(wi.len())];
+        let mut p = vec![9.0; wo.len().max(wi.len()).saturating_sub(short)];
         batch::pdf(&b, Vec3Slices { x: &ox, y: &oy, z: &oz }, Vec3Slices { x: &ix, y: &iy, z: &iz }, &mut p);
-        let n = [ox.len(), oy.len(), oz.len(), ix.len(), iy.len(), iz.len()].into_iter().min().unwrap();
+        let n = [ox.len(), oy.len(), oz.len(), ix.len(), iy.len(), iz.len(), p.len()].into_iter().min().unwrap();
         for i in 0..n {
             let want = b.pdf(Vec3::new(ox[i], oy[i], oz[i]), wi[i], Sampling::Vndf);
             prop_assert!(same(p[i], want) && ok(p[i]), "{b:?} lane {i}: {} vs {want}", p[i]);
@@ -1299,11 +1300,11 @@ proptest! {
 
     /// Lane by lane `TrowbridgeReitz::d` for `min` of the lengths, finite and >= 0.
     #[test]
-    fn batch_d(t in raw_dist(), wm in dir_lanes(), drop in 0usize..2) {
+    fn batch_d(t in raw_dist(), wm in dir_lanes(), drop in 0usize..2, short in 0usize..3) {
         let [x, y, z] = split(&wm, drop);
-        let mut out = vec![9.0; wm.len()];
+        let mut out = vec![9.0; wm.len().saturating_sub(short)];
         batch::d(&t, Vec3Slices { x: &x, y: &y, z: &z }, &mut out);
-        let n = [x.len(), y.len(), z.len()].into_iter().min().unwrap();
+        let n = [x.len(), y.len(), z.len(), out.len()].into_iter().min().unwrap();
         for i in 0..n {
             let want = t.d(wm[i]);
             prop_assert!(same(out[i], want) && ok(out[i]), "{t:?} lane {i}: {} vs {want}", out[i]);
