@@ -794,8 +794,8 @@ mod tests {
         }
     }
 
-    /// Every lane of `pdf` is `GgxConductor::pdf(.., Vndf)` (the same density as
-    /// `SphericalCaps`) and every lane of `d` is `TrowbridgeReitz::d`, bit for bit, over the
+    /// Every lane of `pdf` is `GgxConductor::pdf(.., Vndf)` (whose match arm `SphericalCaps`
+    /// shares) and every lane of `d` is `TrowbridgeReitz::d`, bit for bit, over the
     /// alpha range and hostile lanes (grazing, back-facing half vectors, below the horizon).
     #[test]
     fn batch_pdf_and_d_are_the_scalar_functions_bit_for_bit() {
@@ -822,7 +822,6 @@ mod tests {
             for i in 0..2048 {
                 let want = brdf.pdf(wo[i], wi[i], Sampling::Vndf);
                 assert_eq!(p[i].to_bits(), want.to_bits(), "{ax} {ay} lane {i}: {} vs {want}", p[i]);
-                assert_eq!(want.to_bits(), brdf.pdf(wo[i], wi[i], Sampling::SphericalCaps).to_bits(), "lane {i}");
                 let want_d = brdf.distribution.d(wi[i]);
                 assert_eq!(dd[i].to_bits(), want_d.to_bits(), "{ax} {ay} lane {i}: D {} vs {want_d}", dd[i]);
                 positive += (want > 0.0) as usize;
