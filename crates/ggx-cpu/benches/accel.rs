@@ -5,7 +5,7 @@
 //! rays up to 0.9 of their closest hit (every one unoccluded, the full walk) and to infinity.
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use ggx_cpu::{Accel, AccelKind};
+use ggx_cpu::{Accel, AccelKind, PACKET_RAYS};
 use glam::{Vec2, Vec3};
 use std::hint::black_box;
 use std::path::Path;
@@ -25,6 +25,15 @@ fn queries(c: &mut Criterion) {
         let primary: Vec<(Vec3, Vec3)> = (0..64 * 64)
             .map(|i| camera.generate_ray(Vec2::new((i % 64) as f32 + 0.5, (i / 64) as f32 + 0.5)))
             .collect();
+        // Sixteen rays through each pixel of the 16x16 pixels at the image's centre, pixel by
+        // pixel, as the renderer traces a pass: what packets are for.
+        let jitter = |j: u32| Vec2::new((j % 4) as f32 + 0.5, (j / 4) as f32 + 0.5) / 4.0;
+        let pixels: Vec<(Vec3, Vec3)> = (0..16 * 16 * PACKET_RAYS as u32)
+            .map(|i| {
+                let (p, j) = (i / PACKET_RAYS as u32, i % PACKET_RAYS as u32);
+                camera.generate_ray(Vec2::new((24 + p % 16) as f32, (24 + p / 16) as f32) + jitter(j))
+            })
+            .collect();
         let Some((lo, hi)) = scene.mesh.bounds() else { continue };
         let rays = scattered_rays(lo, hi, 4096, 7);
         for kind in [AccelKind::Wide, AccelKind::Cwbvh, AccelKind::Bvh2] {
@@ -38,6 +47,21 @@ fn queries(c: &mut Criterion) {
             g.bench_function(format!("{name}/{kind:?}/closest-camera"), |b| {
                 b.iter(|| {
                     primary.iter().filter(|&&(o, d)| black_box(&accel).closest(o, d, f32::INFINITY).is_some()).count()
+                })
+            });
+            g.throughput(Throughput::Elements(pixels.len() as u64));
+            g.bench_function(format!("{name}/{kind:?}/closest-pixel-rays"), |b| {
+                b.iter(|| {
+                    pixels.iter().filter(|&&(o, d)| black_box(&accel).closest(o, d, f32::INFINITY).is_some()).count()
+                })
+            });
+            g.bench_function(format!("{name}/{kind:?}/closest-pixel-packets"), |b| {
+                let mut hits = vec![None; pixels.len()];
+                b.iter(|| {
+                    for (rays, hits) in pixels.chunks(PACKET_RAYS).zip(hits.chunks_mut(PACKET_RAYS)) {
+                        black_box(&accel).closest_packet(rays, hits);
+                    }
+                    hits.iter().filter(|h| h.is_some()).count()
                 })
             });
             g.throughput(Throughput::Elements(rays.len() as u64));

@@ -18,6 +18,7 @@
 //! Every variant draws the same sample dimensions in the same order, so a specialized kernel
 //! returns bit-identical radiance to the generic one.
 
+use crate::Hit;
 use crate::offset::offset_ray_origin;
 use crate::scene_data::SceneData;
 use ggx_core::mis::power_heuristic;
@@ -137,13 +138,16 @@ fn segment_medium(bsdf: &Bsdf, current: Vec3, wi_z: f32) -> Vec3 {
     }
 }
 
-/// Radiance along the camera ray `(origin, dir)`, its random numbers drawn from `stream` with
-/// the pixel's scramble seeds kept in `seeds`.
+/// Radiance along the camera ray `(origin, dir)`, whose closest hit `camera_hit` is already
+/// found (camera rays are traced in packets: [`crate::Accel::closest_packet`]), its random
+/// numbers drawn from `stream` with the pixel's scramble seeds kept in `seeds`.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELECTRIC: bool, const TEX: bool>(
     scene: &SceneData,
     mut origin: Vec3,
     mut dir: Vec3,
+    camera_hit: Option<Hit>,
     stream: &mut SampleStream,
     seeds: &mut PixelSeeds,
     counters: &mut Counters,
@@ -182,9 +186,14 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
     // Product of eta'^2 over the transmissions so far: undoes their radiance scaling for
     // Russian roulette (pbrt-v4's `etaScale`).
     let mut eta_scale = 1.0f32;
+    // The camera ray's hit, then each bounce's.
+    let mut given = Some(camera_hit);
     loop {
         counters.rays += 1;
-        let hit = scene.accel.closest(origin, dir, f32::INFINITY);
+        let hit = match given.take() {
+            Some(hit) => hit,
+            None => scene.accel.closest(origin, dir, f32::INFINITY),
+        };
         if DIELECTRIC && sigma != Vec3::ZERO {
             // A ray inside an open mesh that escapes has crossed an infinite medium.
             beta *= match hit {

@@ -26,7 +26,7 @@ pub mod render;
 mod scene_data;
 mod wide_bvh;
 
-pub use accel::{Accel, AccelKind, Hit};
+pub use accel::{Accel, AccelKind, Hit, PACKET_RAYS};
 pub use ggx_render::{
     Bsdf, Job, Progress, RenderControl, RenderError, RenderOptions, RenderResult, pass_end, sampling_for, stream_seed,
 };

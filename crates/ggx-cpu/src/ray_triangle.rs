@@ -196,6 +196,31 @@ impl TrianglePacket {
     }
 }
 
+impl TrianglePacket {
+    /// [`moller_trumbore_t`] of lane `i`'s triangle against `N` rays (origins `o[axis][ray]`,
+    /// directions `d`, each ray's `tmin`, and `tmax` for all), branch-free: the rays are the
+    /// vector lanes here, each the scalar result bit for bit.
+    #[inline(always)]
+    pub(crate) fn intersect_rays<const N: usize>(
+        &self,
+        i: usize,
+        o: &[[f32; N]; 3],
+        d: &[[f32; N]; 3],
+        tmin: &[f32; N],
+        tmax: f32,
+    ) -> [f32; N] {
+        let i = i % PACKET_WIDTH;
+        let at = |m: &[[f32; PACKET_WIDTH]; 3]| [m[0][i], m[1][i], m[2][i]];
+        let (v0, e1, e2, n) = (at(&self.v0), at(&self.e1), at(&self.e2), at(&self.n));
+        let mut t = [f32::INFINITY; N];
+        for (r, t) in t.iter_mut().enumerate() {
+            let ray = |m: &[[f32; N]; 3]| [m[0][r], m[1][r], m[2][r]];
+            *t = moller_trumbore_t::<_, false>(v0, e1, e2, n, ray(o), ray(d), tmin[r], tmax);
+        }
+        t
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

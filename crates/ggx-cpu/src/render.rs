@@ -7,6 +7,7 @@
 //! schedule, how a sample range was split across runs or where a render was resumed. Only a
 //! time budget, which ends the render after however many passes fit, depends on the clock.
 
+use crate::PACKET_RAYS;
 use crate::integrator::{Counters, trace};
 use crate::scene_data::SceneData;
 use ggx_core::sequence::PixelSeeds;
@@ -14,7 +15,7 @@ use ggx_core::{SampleStream, SequenceKind};
 use ggx_film::{Film, SampleSum, Window};
 use ggx_render::{Job, KernelVariant, RenderError, pass_end};
 use ggx_scene::SceneFeatures;
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
@@ -48,6 +49,70 @@ pub struct TileWork<'a> {
 /// cancelled before the tile started.
 type TileFn = fn(&SceneData, Sampling, TileWork<'_>, &AtomicBool, &AtomicU64) -> Option<Vec<SampleSum>>;
 
+/// Up to [`PACKET_RAYS`] camera rays of a tile, in pixel and sample order (one pixel's samples
+/// or, in passes of few samples, neighbouring pixels'), whose closest hits are found in one
+/// walk ([`crate::Accel::closest_packet`]) before each path is traced on.
+struct CameraPacket {
+    /// The tile's pixel each ray is for.
+    slots: [usize; PACKET_RAYS],
+    /// Each ray's sample stream, past the pixel jitter.
+    streams: [SampleStream; PACKET_RAYS],
+    /// Each ray's origin and direction.
+    rays: [(Vec3, Vec3); PACKET_RAYS],
+    /// Rays held.
+    count: usize,
+}
+
+impl Default for CameraPacket {
+    fn default() -> Self {
+        let stream = SampleStream { kind: 0, seed: 0, sample_index: 0, dimension: 0 };
+        CameraPacket {
+            slots: [0; PACKET_RAYS],
+            streams: [stream; PACKET_RAYS],
+            rays: [(Vec3::ZERO, Vec3::ZERO); PACKET_RAYS],
+            count: 0,
+        }
+    }
+}
+
+impl CameraPacket {
+    /// Adds the ray of tile pixel `slot`; true when the packet is full.
+    #[inline(always)]
+    fn push(&mut self, slot: usize, stream: SampleStream, ray: (Vec3, Vec3)) -> bool {
+        if let (Some(s), Some(st), Some(r)) =
+            (self.slots.get_mut(self.count), self.streams.get_mut(self.count), self.rays.get_mut(self.count))
+        {
+            (*s, *st, *r) = (slot, stream, ray);
+            self.count += 1;
+        }
+        self.count == PACKET_RAYS
+    }
+
+    /// Finds the held rays' closest hits together, traces each path on from its hit into
+    /// its pixel's sum in `out` (its seeds in `seeds[slot % PACKET_RAYS]`), and empties the packet.
+    #[inline(always)]
+    fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELECTRIC: bool, const TEX: bool>(
+        &mut self,
+        scene: &SceneData,
+        seeds: &mut [PixelSeeds; PACKET_RAYS],
+        out: &mut [SampleSum],
+        counters: &mut Counters,
+    ) {
+        let count = core::mem::take(&mut self.count);
+        let mut hits = [None; PACKET_RAYS];
+        scene.accel.closest_packet(&self.rays[..count], &mut hits[..count]);
+        let paths = self.slots.iter().zip(&self.rays).zip(self.streams.iter_mut()).zip(hits).take(count);
+        for (((&slot, &(origin, dir)), stream), hit) in paths {
+            let seeds = &mut seeds[slot % PACKET_RAYS];
+            let radiance =
+                trace::<AREA, ENV, PLASTIC, DIELECTRIC, TEX>(scene, origin, dir, hit, stream, seeds, counters);
+            if let Some(sum) = out.get_mut(slot) {
+                sum.add(radiance);
+            }
+        }
+    }
+}
+
 /// Renders one tile's pixels from the samples they hold to `work.to`.
 fn render_tile<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELECTRIC: bool, const TEX: bool>(
     scene: &SceneData,
@@ -61,32 +126,28 @@ fn render_tile<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIE
     }
     let [x0, y0, x1, y1] = work.rect;
     let width = scene.camera.resolution[0];
-    let mut out = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
+    let mut out = vec![SampleSum::default(); ((x1 - x0) * (y1 - y0)) as usize];
     let mut counters = Counters::default();
-    for y in y0..y1 {
-        for x in x0..x1 {
-            let pixel = y * width + x;
-            let held = work.film.pixels().get(pixel as usize).map_or(0, |p| p.samples);
-            let mut sum = SampleSum::default();
-            // Every sample of the pixel shares its scramble seeds: hashed once, here.
-            let mut seeds = PixelSeeds::new(SampleStream::new(sampling.kind, sampling.seed, pixel, 0).seed);
-            for s in work.start.saturating_add(held)..work.to {
-                let mut stream = SampleStream::new(sampling.kind, sampling.seed, pixel, s);
-                let jitter = stream.next_2d_with(&mut seeds);
-                let (origin, dir) = scene.ray_generator.generate_ray(Vec2::new(x as f32, y as f32) + jitter);
-                let radiance = trace::<AREA, ENV, PLASTIC, DIELECTRIC, TEX>(
-                    scene,
-                    origin,
-                    dir,
-                    &mut stream,
-                    &mut seeds,
-                    &mut counters,
-                );
-                sum.add(radiance);
+    // Each pixel's samples share its scramble seeds, hashed once: the seeds of the pixels a
+    // packet spans, in a ring (a pixel whose slot was taken gets hashed seeds: the same values).
+    let mut seeds: [PixelSeeds; PACKET_RAYS] = core::array::from_fn(|_| PixelSeeds::new(0));
+    let mut packet = CameraPacket::default();
+    let pixels = (y0..y1).flat_map(|y| (x0..x1).map(move |x| (x, y)));
+    for (slot, (x, y)) in pixels.enumerate() {
+        let pixel = y * width + x;
+        let held = work.film.pixels().get(pixel as usize).map_or(0, |p| p.samples);
+        let ring = slot % PACKET_RAYS;
+        seeds[ring] = PixelSeeds::new(SampleStream::new(sampling.kind, sampling.seed, pixel, 0).seed);
+        for s in work.start.saturating_add(held)..work.to {
+            let mut stream = SampleStream::new(sampling.kind, sampling.seed, pixel, s);
+            let jitter = stream.next_2d_with(&mut seeds[ring]);
+            let ray = scene.ray_generator.generate_ray(Vec2::new(x as f32, y as f32) + jitter);
+            if packet.push(slot, stream, ray) {
+                packet.trace::<AREA, ENV, PLASTIC, DIELECTRIC, TEX>(scene, &mut seeds, &mut out, &mut counters);
             }
-            out.push(sum);
         }
     }
+    packet.trace::<AREA, ENV, PLASTIC, DIELECTRIC, TEX>(scene, &mut seeds, &mut out, &mut counters);
     rays.fetch_add(counters.rays + counters.shadow_rays, Ordering::Relaxed);
     Some(out)
 }

@@ -25,6 +25,69 @@ std::thread_local! {
 /// Deepest tree the stack holds: `(WIDTH - 1) * MAX_DEPTH + 1 <= STACK_SIZE`.
 const MAX_DEPTH: usize = (STACK_SIZE - 1) / (WIDTH - 1);
 
+/// Rays a packet walk carries ([`WideBvh::traverse_packet`]): one AVX-512 register of `f32`
+/// per quantity.
+pub(crate) const RAYS: usize = 16;
+
+/// Up to [`RAYS`] rays walked through the tree together, as structure of arrays: the slab test
+/// of one child box runs on every ray at once. Lane `r` takes part when bit `r` of `live` is set.
+pub(crate) struct RayPacket {
+    /// Origins, `origin[axis][lane]`.
+    pub(crate) origin: [[f32; RAYS]; 3],
+    /// Directions, `direction[axis][lane]` (for the leaf tests).
+    pub(crate) direction: [[f32; RAYS]; 3],
+    /// Exact reciprocals of the directions (infinite for a zero component), as in [`WideBvh::walk`].
+    inv: [[f32; RAYS]; 3],
+    /// Sign bits of `inv`: where set, the box's `hi` plane is the near one.
+    neg: [[bool; RAYS]; 3],
+    /// Each ray's `tmin`.
+    pub(crate) tmin: [f32; RAYS],
+    /// Lanes that hold a ray the walk can hit something with.
+    live: u32,
+}
+
+impl RayPacket {
+    /// The packet of `rays` (the first [`RAYS`]; the lanes past them are dead). A ray with a
+    /// NaN component or an infinite origin is dead too: it hits nothing, as in
+    /// [`WideBvh::traverse`].
+    pub(crate) fn new(rays: &[Ray]) -> RayPacket {
+        let mut p = RayPacket {
+            origin: [[0.0; RAYS]; 3],
+            direction: [[0.0; RAYS]; 3],
+            inv: [[0.0; RAYS]; 3],
+            neg: [[false; RAYS]; 3],
+            tmin: [0.0; RAYS],
+            live: 0,
+        };
+        for (r, ray) in rays.iter().take(RAYS).enumerate() {
+            if !ray.origin.is_finite() || ray.direction.is_nan() {
+                continue;
+            }
+            let (o, d, inv) = (ray.origin.to_array(), ray.direction.to_array(), ray.direction.recip().to_array());
+            for a in 0..3 {
+                p.origin[a][r] = o[a];
+                p.direction[a][r] = d[a];
+                p.inv[a][r] = inv[a];
+                p.neg[a][r] = inv[a].is_sign_negative();
+            }
+            p.tmin[r] = ray.tmin;
+            p.live |= 1 << r;
+        }
+        p
+    }
+}
+
+/// What a packet walk does at a leaf: `visit(first, count, lanes, t_max)` tests the leaf's
+/// primitives for the rays of `lanes` (those whose own slab test entered the leaf's box) and
+/// lowers their `t_max[lane]` to nearer hits (closest-hit queries only).
+pub(crate) trait PacketLeaf {
+    /// Tests the leaf `first` of `count` primitives for the rays `lanes`.
+    fn visit(&mut self, first: u32, count: u32, lanes: u32, t_max: &mut [f32; RAYS]);
+}
+
+/// A packet walk's stack entry: `(node, nearest entry distance over its rays, rays that entered its box)`.
+type PacketStack = [(u32, f32, u32); STACK_SIZE];
+
 /// `1 + 2 gamma(3)` (pbrt-v4, 6.8.2): the far distance of a box is scaled by it so that the
 /// slab test's own rounding does not cull a box the ray enters (Ize 2013). (A triangle test
 /// that rounds its `t` further, at grazing incidence, can still fall outside; obvhs' trees have
@@ -74,6 +137,50 @@ impl WideNode {
             mask |= u32::from(t_near[i] <= t_far[i]) << i;
         }
         (mask, t_near)
+    }
+
+    /// [`Self::intersect`] of each of the eight boxes with every ray of `lanes` at once:
+    /// `masks[i]` holds the rays whose slab test enters box `i` (each ray's test the single
+    /// walk's, with the same operations and so the same bits), `nearest[i]` the smallest
+    /// `t_near` among them (infinite when none), for ordering.
+    #[inline(always)]
+    fn intersect_packet(&self, p: &RayPacket, t_max: &[f32; RAYS], lanes: u32) -> ([u32; WIDTH], [f32; WIDTH]) {
+        let mut masks = [0u32; WIDTH];
+        let mut nearest = [f32::INFINITY; WIDTH];
+        for i in 0..WIDTH {
+            let lo = [self.lo[0][i], self.lo[1][i], self.lo[2][i]];
+            let hi = [self.hi[0][i], self.hi[1][i], self.hi[2][i]];
+            let mut entry = [f32::INFINITY; RAYS];
+            let mut enters = [false; RAYS];
+            for r in 0..RAYS {
+                let slab = |a: usize| {
+                    let (near, far) = if p.neg[a][r] { (hi[a], lo[a]) } else { (lo[a], hi[a]) };
+                    ((near - p.origin[a][r]) * p.inv[a][r], (far - p.origin[a][r]) * p.inv[a][r])
+                };
+                let ((ax, bx), (ay, by), (az, bz)) = (slab(0), slab(1), slab(2));
+                let t_near = max_or_b(ax, max_or_b(ay, max_or_b(az, p.tmin[r])));
+                let t_far = min_or_b(bx, min_or_b(by, min_or_b(bz, t_max[r]))) * FAR_SCALE;
+                enters[r] = t_near <= t_far && (lanes >> r) & 1 != 0;
+                entry[r] = if enters[r] { t_near } else { f32::INFINITY };
+            }
+            // Reductions by halves, which vectorize: OR of each ray's bit; the smallest entry
+            // (never NaN: `t_near` ends in `max_or_b(_, tmin)`, so the order does not matter).
+            let mut bits = [0u32; RAYS];
+            for r in 0..RAYS {
+                bits[r] = u32::from(enters[r]) << r;
+            }
+            let mut width = RAYS / 2;
+            while width > 0 {
+                for r in 0..width {
+                    bits[r] |= bits[r + width];
+                    entry[r] = min_or_b(entry[r + width], entry[r]);
+                }
+                width /= 2;
+            }
+            masks[i] = bits[0];
+            nearest[i] = entry[0];
+        }
+        (masks, nearest)
     }
 }
 
@@ -132,6 +239,23 @@ impl<const ORDERED: bool, F: Leaf> pulp::WithSimd for Walk<'_, ORDERED, F> {
     #[inline(always)]
     fn with_simd<S: pulp::Simd>(self, _simd: S) {
         self.bvh.walk::<ORDERED>(self.ray, self.stack, self.leaf)
+    }
+}
+
+/// A packet walk's arguments, for `pulp`'s dispatch.
+struct PacketWalk<'a, F> {
+    bvh: &'a WideBvh,
+    rays: &'a RayPacket,
+    t_max: &'a mut [f32; RAYS],
+    leaf: F,
+}
+
+impl<F: PacketLeaf> pulp::WithSimd for PacketWalk<'_, F> {
+    type Output = ();
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) {
+        self.bvh.walk_packet(self.rays, self.t_max, self.leaf)
     }
 }
 
@@ -269,6 +393,73 @@ impl WideBvh {
                 let (next, t) = stack[len];
                 if t <= t_max * FAR_SCALE {
                     node = next as usize;
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Walks the tree once for all the rays of `rays` (closest-hit queries; `t_max[lane]` is
+    /// each ray's initial limit, lowered by `leaf` as it finds hits): a node is opened when any
+    /// live ray enters its box, and each leaf is visited with the rays that entered it, so every
+    /// ray visits the leaves its own [`Self::traverse`] would, perhaps in another order. The
+    /// children are visited nearest first by their nearest ray's entry. Coherent rays (one
+    /// pixel's camera rays) share most of their nodes, so the walk's bookkeeping is paid once
+    /// for the packet, and each box test runs on 16 rays in one AVX-512 instruction.
+    #[inline(always)]
+    pub(crate) fn traverse_packet(&self, rays: &RayPacket, t_max: &mut [f32; RAYS], leaf: impl PacketLeaf) {
+        if self.nodes.is_empty() || rays.live == 0 {
+            return;
+        }
+        self.arch.dispatch(PacketWalk { bvh: self, rays, t_max, leaf })
+    }
+
+    /// [`Self::traverse_packet`] with a stack of its own (12 bytes an entry: zeroing it is
+    /// small beside the sixteen walks it replaces).
+    #[inline(always)]
+    fn walk_packet(&self, p: &RayPacket, t_max: &mut [f32; RAYS], mut leaf: impl PacketLeaf) {
+        let mut stack: PacketStack = [(0, 0.0, 0); STACK_SIZE];
+        let mut len = 0usize;
+        let (mut node, mut lanes) = (0usize, p.live);
+        loop {
+            let Some(n) = self.nodes.get(node) else { return };
+            let (masks, nearest) = n.intersect_packet(p, t_max, lanes);
+            let base = len;
+            for i in 0..WIDTH {
+                let m = masks[i];
+                if m == 0 {
+                    continue;
+                }
+                if n.count[i] > 0 {
+                    leaf.visit(n.index[i], n.count[i], m, t_max);
+                } else if len < STACK_SIZE && n.index[i] as usize > node {
+                    // Children come after their parent (see `walk`).
+                    stack[len] = (n.index[i], nearest[i], m);
+                    len += 1;
+                }
+            }
+            // Insertion sort of this node's pushes, farthest at the bottom: the nearest pops first.
+            for i in base + 1..len {
+                let mut j = i;
+                while j > base && stack[j - 1].1 < stack[j].1 {
+                    stack.swap(j - 1, j);
+                    j -= 1;
+                }
+            }
+            // Pop the next child that some ray still needs: one whose nearest entry is within
+            // that ray's (lowered) limit.
+            loop {
+                if len == 0 {
+                    return;
+                }
+                len -= 1;
+                let (next, t, m) = stack[len];
+                let mut need = 0u32;
+                for (r, &limit) in t_max.iter().enumerate() {
+                    need |= u32::from(t <= limit * FAR_SCALE) << r;
+                }
+                if m & need != 0 {
+                    (node, lanes) = (next as usize, m & need);
                     break;
                 }
             }
