@@ -375,14 +375,7 @@ impl WideBvh {
                 }
             }
             if ORDERED {
-                // Insertion sort of this node's pushes, farthest at the bottom: the nearest pops first.
-                for i in base + 1..len {
-                    let mut j = i;
-                    while j > base && stack[j - 1].1 < stack[j].1 {
-                        stack.swap(j - 1, j);
-                        j -= 1;
-                    }
-                }
+                sort_pushes(&mut stack[..len], base, |e| e.1);
             }
             // Pop the next child that a nearer hit has not culled.
             loop {
@@ -438,14 +431,7 @@ impl WideBvh {
                     len += 1;
                 }
             }
-            // Insertion sort of this node's pushes, farthest at the bottom: the nearest pops first.
-            for i in base + 1..len {
-                let mut j = i;
-                while j > base && stack[j - 1].1 < stack[j].1 {
-                    stack.swap(j - 1, j);
-                    j -= 1;
-                }
-            }
+            sort_pushes(&mut stack[..len], base, |e| e.1);
             // Pop the next child that some ray still needs: one whose nearest entry is within
             // that ray's (lowered) limit.
             loop {
@@ -478,6 +464,19 @@ impl WideBvh {
                 .unwrap_or(0)
         }
         if self.nodes.is_empty() { 0 } else { walk(&self.nodes, 0) }
+    }
+}
+
+/// Insertion sort of the entries a node pushed (`stack[base..]`) by `distance`, farthest at the
+/// bottom, so the nearest pops first.
+#[inline(always)]
+fn sort_pushes<T>(stack: &mut [T], base: usize, distance: impl Fn(&T) -> f32) {
+    for i in base + 1..stack.len() {
+        let mut j = i;
+        while j > base && distance(&stack[j - 1]) < distance(&stack[j]) {
+            stack.swap(j - 1, j);
+            j -= 1;
+        }
     }
 }
 

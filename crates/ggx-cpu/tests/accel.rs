@@ -3,7 +3,7 @@
 //! the two disagree the wide BVH's is a brute-force loop's over all triangles (its box test keeps
 //! a rounding margin that obvhs' lacks).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use ggx_cpu::{Accel, AccelKind, Hit, PACKET_RAYS};
 use glam::{Vec2, Vec3};
@@ -14,17 +14,27 @@ mod support;
 
 use support::rays::scattered_rays;
 
-#[test]
-fn wide_bvh_finds_the_binary_bvhs_hits() {
+/// Every shipped scene (`scenes/*.toml`) with a mesh, loaded, with its mesh's bounds.
+fn shipped_scenes() -> Vec<(PathBuf, ggx_scene::Scene, Vec3, Vec3)> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
-    let mut scenes = 0;
+    let mut scenes = Vec::new();
     for entry in std::fs::read_dir(&dir).unwrap() {
         let path = entry.unwrap().path();
         if path.extension().is_none_or(|e| e != "toml") {
             continue;
         }
         let scene = ggx_scene::load_scene(&path).unwrap();
-        let Some((lo, hi)) = scene.mesh.bounds() else { continue };
+        if let Some((lo, hi)) = scene.mesh.bounds() {
+            scenes.push((path, scene, lo, hi));
+        }
+    }
+    assert!(scenes.len() >= 6, "only {} scenes", scenes.len());
+    scenes
+}
+
+#[test]
+fn wide_bvh_finds_the_binary_bvhs_hits() {
+    for (path, scene, lo, hi) in shipped_scenes() {
         let tris = &scene.mesh.triangles;
         let (wide, bvh2) = (Accel::build(tris, AccelKind::Wide), Accel::build(tris, AccelKind::Bvh2));
         let (mut hits, mut ties, mut disagreements) = (0, 0, 0);
@@ -67,9 +77,7 @@ fn wide_bvh_finds_the_binary_bvhs_hits() {
         assert!(hits >= 500, "{}: only {hits} rays hit", path.display());
         assert!(ties * 100 <= hits, "{}: {ties} of {hits} hits on another triangle", path.display());
         assert!(disagreements * 100 <= hits, "{}: {disagreements} of {hits} hits differ", path.display());
-        scenes += 1;
     }
-    assert!(scenes >= 6, "only {scenes} scenes");
 }
 
 /// `closest_packet`'s hits for `rays` cut into packets of the sizes in `sizes` (cycled).
@@ -126,15 +134,7 @@ fn packet_test_rays(scene: &ggx_scene::Scene, lo: Vec3, hi: Vec3) -> Vec<(Vec3, 
 /// same bits.
 #[test]
 fn packets_find_each_rays_own_hit() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
-    let mut scenes = 0;
-    for entry in std::fs::read_dir(&dir).unwrap() {
-        let path = entry.unwrap().path();
-        if path.extension().is_none_or(|e| e != "toml") {
-            continue;
-        }
-        let scene = ggx_scene::load_scene(&path).unwrap();
-        let Some((lo, hi)) = scene.mesh.bounds() else { continue };
+    for (path, scene, lo, hi) in shipped_scenes() {
         let rays = packet_test_rays(&scene, lo, hi);
         for kind in [AccelKind::Wide, AccelKind::Bvh2] {
             let accel = Accel::build(&scene.mesh.triangles, kind);
@@ -174,9 +174,7 @@ fn packets_find_each_rays_own_hit() {
                 assert_eq!(bits(*a), bits(*b), "{} {kind:?}: reversed", path.display());
             }
         }
-        scenes += 1;
     }
-    assert!(scenes >= 6, "only {scenes} scenes");
 }
 
 /// Where every triangle is there twice, every hit is a tie: a packet always answers with the
