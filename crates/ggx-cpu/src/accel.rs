@@ -132,13 +132,13 @@ impl Accel {
         self.build_time
     }
 
-    /// Closest hit along `origin + t dir`, `t` in `(0, t_max)`. On the wide tree, of two
-    /// triangles at the same distance the lower-numbered one is hit, whatever order the walk
-    /// meets them in (obvhs' trees keep their walks' order).
+    /// Closest hit along `origin + t dir`, `t` in `(0, t_max)`; of two triangles at the same
+    /// distance, the first the walk meets. On the wide tree a ray with a NaN component or an
+    /// infinite origin hits nothing (obvhs' trees debug-assert a finite ray).
     pub fn closest(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Option<Hit> {
-        let ray = Ray::new(origin.into(), dir.into(), 0.0, t_max);
         let (tri, triangle, t) = match &self.tree {
             Tree::Wide { bvh, packets } => {
+                let ray = Ray { tmax: t_max, ..unbounded_ray(origin, dir) };
                 let mut leaf = ClosestInPackets { packets, ray: &ray, best: None };
                 bvh.traverse::<true>(&ray, &mut leaf);
                 let best = leaf.best?;
@@ -146,11 +146,13 @@ impl Accel {
                 (p.lane(best.lane), *p.triangle.get(best.lane)?, best.t)
             }
             Tree::Cw { bvh, primitives } => {
+                let ray = Ray::new(origin.into(), dir.into(), 0.0, t_max);
                 let mut hit = RayHit::none();
                 let found = bvh.ray_traverse(ray, &mut hit, |r, id| primitives.intersect(r, id));
                 primitives.hit(found, &hit)?
             }
             Tree::Binary { bvh, primitives } => {
+                let ray = Ray::new(origin.into(), dir.into(), 0.0, t_max);
                 let mut hit = RayHit::none();
                 let found = bvh.ray_traverse(ray, &mut hit, |r, id| primitives.intersect(r, id));
                 primitives.hit(found, &hit)?
@@ -161,10 +163,15 @@ impl Accel {
     }
 
     /// [`Self::closest`] of every ray `(origin, dir)` of `rays` with `t_max = inf`, into
-    /// `hits` (pairs past the shorter of the two are left alone): the same hits, bit for bit.
-    /// The wide tree walks each [`PACKET_RAYS`] rays together (one walk, each box test on all
-    /// of them at once: [`WideBvh::traverse_packet`]), which pays off for coherent rays such as
-    /// one pixel's camera rays; obvhs' trees take the rays one by one.
+    /// `hits` (pairs past the shorter of the two are left alone). The wide tree walks each
+    /// [`PACKET_RAYS`] rays together (one walk, each box test on all of them at once:
+    /// [`WideBvh::traverse_packet`]), which pays off for coherent rays such as one pixel's camera
+    /// rays: each ray gets the distance its own walk finds, bit for bit, and the same triangle
+    /// except where two tie, which go to the lower-numbered one (not to the first met), so that
+    /// the hit does not depend on the packet. (Where a triangle test rounds its distance below
+    /// its box's by more than the box test's margin, at grazing incidence, either walk can
+    /// miss it depending on the order it culls boxes in, as against a brute-force loop.)
+    /// obvhs' trees take the rays one by one, with [`Self::closest`].
     pub fn closest_packet(&self, rays: &[(Vec3, Vec3)], hits: &mut [Option<Hit>]) {
         let Tree::Wide { bvh, packets } = &self.tree else {
             for (&(o, d), hit) in rays.iter().zip(hits.iter_mut()) {

@@ -194,9 +194,7 @@ impl TrianglePacket {
         }
         t
     }
-}
 
-impl TrianglePacket {
     /// [`moller_trumbore_t`] of lane `i`'s triangle against `N` rays (origins `o[axis][ray]`,
     /// directions `d`, each ray's `tmin`, and `tmax` for all), branch-free: the rays are the
     /// vector lanes here, each the scalar result bit for bit.
@@ -234,6 +232,7 @@ mod tests {
     /// bit for bit: random triangles and rays, rays along axes (infinite reciprocals), rays in
     /// a triangle's plane, degenerate triangles (a point, a line), huge and tiny coordinates,
     /// NaN and infinite vertices, and `tmin`/`tmax` limits around the hit; unused lanes miss.
+    /// And the transposed test (one triangle against a packet of rays) likewise, per ray.
     #[test]
     fn packet_lanes_are_obvhs_triangle_test_bit_for_bit() {
         let mut seed = 0x9e37_79b9u32;
@@ -278,9 +277,26 @@ mod tests {
                 tris.iter().take(used).enumerate().map(|(i, t)| (RayTriangle::new(t), i as u32)).collect();
             let packet = TrianglePacket::new(lanes);
             let t = packet.intersect(&ray);
+            // The same ray in every lane of a ray packet but one, which holds another ray.
+            let other = Ray { origin: v(4.0 * scale), ..ray };
+            let (mut o4, mut d4, mut tmin4) = ([[0.0f32; 4]; 3], [[0.0f32; 4]; 3], [ray.tmin; 4]);
+            for r in 0..4 {
+                let this = if r == round % 4 { other } else { ray };
+                for a in 0..3 {
+                    (o4[a][r], d4[a][r]) = (this.origin[a], this.direction[a]);
+                }
+                tmin4[r] = this.tmin;
+            }
             for (i, tri) in tris.iter().enumerate() {
                 let want = if i < used { tri.intersect(&ray) } else { f32::INFINITY };
                 assert_eq!(t[i].to_bits(), want.to_bits(), "round {round}, lane {i}");
+                // The transposed test: triangle `i` against the four rays.
+                let across = packet.intersect_rays(i, &o4, &d4, &tmin4, ray.tmax);
+                for (r, t) in across.iter().enumerate() {
+                    let this = if r == round % 4 { other } else { ray };
+                    let want = if i < used { tri.intersect(&this) } else { f32::INFINITY };
+                    assert_eq!(t.to_bits(), want.to_bits(), "round {round}, lane {i}, ray {r}");
+                }
                 if i < used {
                     assert_eq!(RayTriangle::new(tri).intersect(&ray).to_bits(), want.to_bits(), "round {round}");
                     assert_eq!(bits(&packet.lane(i)), bits(&RayTriangle::new(tri)), "round {round}, lane {i}");

@@ -4,8 +4,10 @@
 //! Determinism: sample `s` of pixel `i` always uses `SampleStream::new(kind, seed, i, s)` and
 //! the film sums samples exactly ([`ggx_film::SampleSum`]), so the image depends only on the
 //! scene, its seed and the samples held: never on the thread count, the tile order, the pass
-//! schedule, how a sample range was split across runs or where a render was resumed. Only a
-//! time budget, which ends the render after however many passes fit, depends on the clock.
+//! schedule, how a sample range was split across runs or where a render was resumed. Camera
+//! rays go in packets whose make-up follows the pass schedule, so a ray's hit must not depend
+//! on its packet ([`crate::Accel::closest_packet`]: ties go to the lower triangle number). Only
+//! a time budget, which ends the render after however many passes fit, depends on the clock.
 
 use crate::PACKET_RAYS;
 use crate::integrator::{Counters, trace};
@@ -76,9 +78,11 @@ impl Default for CameraPacket {
 }
 
 impl CameraPacket {
-    /// Adds the ray of tile pixel `slot`; true when the packet is full.
+    /// Adds the ray of tile pixel `slot`; true when the packet is full (the caller then traces
+    /// it before the next push).
     #[inline(always)]
     fn push(&mut self, slot: usize, stream: SampleStream, ray: (Vec3, Vec3)) -> bool {
+        debug_assert!(self.count < PACKET_RAYS, "a full packet was not traced");
         if let (Some(s), Some(st), Some(r)) =
             (self.slots.get_mut(self.count), self.streams.get_mut(self.count), self.rays.get_mut(self.count))
         {
@@ -90,7 +94,6 @@ impl CameraPacket {
 
     /// Finds the held rays' closest hits together, traces each path on from its hit into
     /// its pixel's sum in `out` (its seeds in `seeds[slot % PACKET_RAYS]`), and empties the packet.
-    #[inline(always)]
     fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELECTRIC: bool, const TEX: bool>(
         &mut self,
         scene: &SceneData,
@@ -136,9 +139,11 @@ fn render_tile<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIE
     for (slot, (x, y)) in pixels.enumerate() {
         let pixel = y * width + x;
         let held = work.film.pixels().get(pixel as usize).map_or(0, |p| p.samples);
-        let ring = slot % PACKET_RAYS;
-        seeds[ring] = PixelSeeds::new(SampleStream::new(sampling.kind, sampling.seed, pixel, 0).seed);
-        for s in work.start.saturating_add(held)..work.to {
+        let (first, ring) = (work.start.saturating_add(held), slot % PACKET_RAYS);
+        if first < work.to {
+            seeds[ring] = PixelSeeds::new(SampleStream::new(sampling.kind, sampling.seed, pixel, 0).seed);
+        }
+        for s in first..work.to {
             let mut stream = SampleStream::new(sampling.kind, sampling.seed, pixel, s);
             let jitter = stream.next_2d_with(&mut seeds[ring]);
             let ray = scene.ray_generator.generate_ray(Vec2::new(x as f32, y as f32) + jitter);

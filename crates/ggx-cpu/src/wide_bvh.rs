@@ -164,7 +164,8 @@ impl WideNode {
                 entry[r] = if enters[r] { t_near } else { f32::INFINITY };
             }
             // Reductions by halves, which vectorize: OR of each ray's bit; the smallest entry
-            // (never NaN: `t_near` ends in `max_or_b(_, tmin)`, so the order does not matter).
+            // (never NaN: a ray that enters has a `t_near <= t_far`, the others infinity; so the
+            // order does not matter).
             let mut bits = [0u32; RAYS];
             for r in 0..RAYS {
                 bits[r] = u32::from(enters[r]) << r;
@@ -394,8 +395,10 @@ impl WideBvh {
 
     /// Walks the tree once for all the rays of `rays` (closest-hit queries; `t_max[lane]` is
     /// each ray's initial limit, lowered by `leaf` as it finds hits): a node is opened when any
-    /// live ray enters its box, and each leaf is visited with the rays that entered it, so every
-    /// ray visits the leaves its own [`Self::traverse`] would, perhaps in another order. The
+    /// live ray enters its box, and each leaf is visited with the rays that entered it: every
+    /// ray tests the leaves it enters within its limit at the time, as in its own
+    /// [`Self::traverse`], in another order (so a leaf culled by a hit found earlier can differ,
+    /// which changes nothing but ties and rounding below the box margin). The
     /// children are visited nearest first by their nearest ray's entry. Coherent rays (one
     /// pixel's camera rays) share most of their nodes, so the walk's bookkeeping is paid once
     /// for the packet, and each box test runs on 16 rays in one AVX-512 instruction.
