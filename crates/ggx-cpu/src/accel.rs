@@ -164,8 +164,8 @@ impl Accel {
 
     /// [`Self::closest`] of every ray `(origin, dir)` of `rays` with `t_max = inf`, into
     /// `hits` (pairs past the shorter of the two are left alone). The wide tree walks each
-    /// [`PACKET_RAYS`] rays together (one walk, each box test on all of them at once:
-    /// [`WideBvh::traverse_packet`]), which pays off for coherent rays such as one pixel's camera
+    /// [`PACKET_RAYS`] rays together (one walk, each box test on all of them at once),
+    /// which pays off for coherent rays such as one pixel's camera
     /// rays: each ray gets the distance its own walk finds, bit for bit, and the same triangle
     /// except where two tie, which go to the lower-numbered one (not to the first met), so that
     /// the hit does not depend on the packet. (Where a triangle test rounds its distance below
