@@ -126,11 +126,8 @@ impl WideNode {
         let plane = |a: usize| if neg[a] { (&self.hi[a], &self.lo[a]) } else { (&self.lo[a], &self.hi[a]) };
         let ((nx, fx), (ny, fy), (nz, fz)) = (plane(0), plane(1), plane(2));
         for i in 0..WIDTH {
-            let (ax, bx) = ((nx[i] - o[0]) * inv[0], (fx[i] - o[0]) * inv[0]);
-            let (ay, by) = ((ny[i] - o[1]) * inv[1], (fy[i] - o[1]) * inv[1]);
-            let (az, bz) = ((nz[i] - o[2]) * inv[2], (fz[i] - o[2]) * inv[2]);
-            t_near[i] = max_or_b(ax, max_or_b(ay, max_or_b(az, ray.tmin)));
-            t_far[i] = min_or_b(bx, min_or_b(by, min_or_b(bz, t_max))) * FAR_SCALE;
+            let (near, far) = ([nx[i], ny[i], nz[i]], [fx[i], fy[i], fz[i]]);
+            (t_near[i], t_far[i]) = slab_interval(near, far, o, inv, ray.tmin, t_max);
         }
         let mut mask = 0u32;
         for i in 0..WIDTH {
@@ -153,13 +150,12 @@ impl WideNode {
             let mut entry = [f32::INFINITY; RAYS];
             let mut enters = [false; RAYS];
             for r in 0..RAYS {
-                let slab = |a: usize| {
-                    let (near, far) = if p.neg[a][r] { (hi[a], lo[a]) } else { (lo[a], hi[a]) };
-                    ((near - p.origin[a][r]) * p.inv[a][r], (far - p.origin[a][r]) * p.inv[a][r])
-                };
-                let ((ax, bx), (ay, by), (az, bz)) = (slab(0), slab(1), slab(2));
-                let t_near = max_or_b(ax, max_or_b(ay, max_or_b(az, p.tmin[r])));
-                let t_far = min_or_b(bx, min_or_b(by, min_or_b(bz, t_max[r]))) * FAR_SCALE;
+                // This ray's near and far planes, by its direction's signs.
+                let plane = |a: usize| if p.neg[a][r] { (hi[a], lo[a]) } else { (lo[a], hi[a]) };
+                let ((nx, fx), (ny, fy), (nz, fz)) = (plane(0), plane(1), plane(2));
+                let ray = |m: &[[f32; RAYS]; 3]| [m[0][r], m[1][r], m[2][r]];
+                let (o, inv) = (ray(&p.origin), ray(&p.inv));
+                let (t_near, t_far) = slab_interval([nx, ny, nz], [fx, fy, fz], o, inv, p.tmin[r], t_max[r]);
                 enters[r] = t_near <= t_far && (lanes >> r) & 1 != 0;
                 entry[r] = if enters[r] { t_near } else { f32::INFINITY };
             }
@@ -183,6 +179,20 @@ impl WideNode {
         }
         (masks, nearest)
     }
+}
+
+/// One ray's interval through one box, given the box's `near` and `far` planes on each axis
+/// (Kay & Kajiya 1986): `(max(t_near, tmin), min(t_far, t_max) * FAR_SCALE)`, which overlap
+/// when the ray enters the box; a NaN slab distance (a ray lying in a face plane) leaves its
+/// axis unconstrained. The single and the packet walk both call it: the same bits per ray.
+#[inline(always)]
+fn slab_interval(near: [f32; 3], far: [f32; 3], o: [f32; 3], inv: [f32; 3], tmin: f32, t_max: f32) -> (f32, f32) {
+    let (ax, bx) = ((near[0] - o[0]) * inv[0], (far[0] - o[0]) * inv[0]);
+    let (ay, by) = ((near[1] - o[1]) * inv[1], (far[1] - o[1]) * inv[1]);
+    let (az, bz) = ((near[2] - o[2]) * inv[2], (far[2] - o[2]) * inv[2]);
+    let t_near = max_or_b(ax, max_or_b(ay, max_or_b(az, tmin)));
+    let t_far = min_or_b(bx, min_or_b(by, min_or_b(bz, t_max))) * FAR_SCALE;
+    (t_near, t_far)
 }
 
 /// `a > b ? a : b` (`maxps`): `b` when `a` is NaN.
