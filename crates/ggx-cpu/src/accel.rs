@@ -180,12 +180,8 @@ impl Accel {
             return;
         };
         for (rays, hits) in rays.chunks(RAYS).zip(hits.chunks_mut(RAYS)) {
-            let mut lanes = [unbounded_ray(Vec3::ZERO, Vec3::ZERO); RAYS];
-            for (lane, &(o, d)) in lanes.iter_mut().zip(rays) {
-                *lane = unbounded_ray(o, d);
-            }
             let n = rays.len().min(hits.len());
-            let packet = RayPacket::new(&lanes[..n]);
+            let packet = RayPacket::new(rays.get(..n).unwrap_or_default());
             let mut t_max = [f32::INFINITY; RAYS];
             let mut leaf = ClosestForPacket {
                 packets,

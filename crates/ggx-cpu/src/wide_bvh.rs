@@ -47,10 +47,10 @@ pub(crate) struct RayPacket {
 }
 
 impl RayPacket {
-    /// The packet of `rays` (the first [`RAYS`]; the lanes past them are dead). A ray with a
-    /// NaN component or an infinite origin is dead too: it hits nothing, as in
-    /// [`WideBvh::traverse`].
-    pub(crate) fn new(rays: &[Ray]) -> RayPacket {
+    /// The packet of `rays`, `(origin, direction)` with `tmin = 0` (the first [`RAYS`]; the lanes
+    /// past them are dead). A ray with a NaN component or an infinite origin is dead too: it
+    /// hits nothing, as in [`WideBvh::traverse`].
+    pub(crate) fn new(rays: &[(glam::Vec3, glam::Vec3)]) -> RayPacket {
         let mut p = RayPacket {
             origin: [[0.0; RAYS]; 3],
             direction: [[0.0; RAYS]; 3],
@@ -59,18 +59,17 @@ impl RayPacket {
             tmin: [0.0; RAYS],
             live: 0,
         };
-        for (r, ray) in rays.iter().take(RAYS).enumerate() {
-            if !ray.origin.is_finite() || ray.direction.is_nan() {
+        for (r, &(origin, direction)) in rays.iter().take(RAYS).enumerate() {
+            if !origin.is_finite() || direction.is_nan() {
                 continue;
             }
-            let (o, d, inv) = (ray.origin.to_array(), ray.direction.to_array(), ray.direction.recip().to_array());
+            let (o, d, inv) = (origin.to_array(), direction.to_array(), direction.recip().to_array());
             for a in 0..3 {
                 p.origin[a][r] = o[a];
                 p.direction[a][r] = d[a];
                 p.inv[a][r] = inv[a];
                 p.neg[a][r] = inv[a].is_sign_negative();
             }
-            p.tmin[r] = ray.tmin;
             p.live |= 1 << r;
         }
         p
