@@ -116,8 +116,8 @@ impl Accel {
             AccelKind::Wide => {
                 let bvh = obvhs::bvh2::builder::build_bvh2_from_tris(&tris, params, &mut core);
                 match WideBvh::from_bvh2(&bvh) {
-                    Some(mut wide) => {
-                        let packets = pack_leaves(&mut wide, &tris, &bvh.primitive_indices);
+                    Some((mut wide, order)) => {
+                        let packets = pack_leaves(&mut wide, &tris, &order);
                         Tree::Wide { bvh: wide, packets }
                     }
                     None => Tree::Binary { primitives: primitives(&bvh.primitive_indices), bvh },

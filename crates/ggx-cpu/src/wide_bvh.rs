@@ -272,21 +272,32 @@ impl<F: PacketLeaf> pulp::WithSimd for PacketWalk<'_, F> {
 impl WideBvh {
     /// Collapses `bvh` (Wald et al. 2008's top-down collapse): each wide node takes its binary
     /// node's two children, then keeps opening the inner child of largest surface area until it
-    /// holds eight children or only leaves. `None` when the result is deeper than [`MAX_DEPTH`]
-    /// or `bvh` is malformed (a child index out of range, a cycle): the caller then keeps `bvh`.
-    pub(crate) fn from_bvh2(bvh: &Bvh2) -> Option<WideBvh> {
-        let Some(root) = bvh.nodes.first() else { return Some(WideBvh { nodes: Vec::new(), arch: pulp::Arch::new() }) };
+    /// holds eight children or only leaves. A binary subtree of at most [`LEAF_PRIMITIVES`]
+    /// primitives counts as a leaf; while a node has lanes to spare, it opens such subtrees too,
+    /// largest first, so small leaves fill lanes that would stay empty (obvhs' leaves of about
+    /// four primitives left half of each eight-wide triangle packet and half of each node's
+    /// lanes unused). Returns the tree and the primitives in leaf order (entries of
+    /// `bvh.primitive_indices`): leaf `(first, count)` holds `order[first..first + count]`.
+    /// `None` when the result is deeper than [`MAX_DEPTH`] or `bvh` is malformed (a child index
+    /// out of range, a cycle): the caller then keeps `bvh`.
+    pub(crate) fn from_bvh2(bvh: &Bvh2) -> Option<(WideBvh, Vec<u32>)> {
+        let arch = pulp::Arch::new();
+        let mut order = Vec::new();
+        let Some(root) = bvh.nodes.first() else { return Some((WideBvh { nodes: Vec::new(), arch }, order)) };
         if bvh.primitive_indices.is_empty() {
-            return Some(WideBvh { nodes: Vec::new(), arch: pulp::Arch::new() });
+            return Some((WideBvh { nodes: Vec::new(), arch }, order));
         }
         let mut nodes = vec![WideNode::EMPTY];
-        if root.prim_count > 0 {
-            set_lane(&mut nodes[0], 0, root, root.first_index, root.prim_count);
-            return Some(WideBvh { nodes, arch: pulp::Arch::new() });
+        if root.prim_count > 0 || subtree_primitives(bvh, 0, None).is_some() {
+            let count = push_leaf(bvh, 0, &mut order)?;
+            set_lane(&mut nodes[0], 0, root, 0, count);
+            return Some((WideBvh { nodes, arch }, order));
         }
         // (binary node, wide node it becomes, depth); each binary node is opened at most once.
         let mut todo = vec![(0usize, 0usize, 1usize)];
         let mut opened = 0usize;
+        // A child that stays a leaf: a binary leaf or a small subtree.
+        let is_leaf = |k: usize| bvh.nodes[k].prim_count > 0 || subtree_primitives(bvh, k, None).is_some();
         while let Some((b, w, depth)) = todo.pop() {
             if depth > MAX_DEPTH {
                 return None;
@@ -294,12 +305,18 @@ impl WideBvh {
             let mut kids: Vec<usize> = children(bvh, b)?.to_vec();
             opened += 1;
             while kids.len() < WIDTH {
-                let inner = kids
-                    .iter()
-                    .enumerate()
-                    .filter(|&(_, &k)| bvh.nodes[k].prim_count == 0)
-                    .max_by(|a, b| half_area(bvh, *a.1).total_cmp(&half_area(bvh, *b.1)));
-                let Some((j, &k)) = inner else { break };
+                // The largest child too big for a leaf; else, while lanes are free, the largest
+                // small subtree (smaller leaves in lanes that would stay empty: the node's box
+                // test is paid anyway, and a ray then tests only the leaves it enters).
+                let largest = |open: &dyn Fn(usize) -> bool| {
+                    kids.iter()
+                        .enumerate()
+                        .filter(|&(_, &k)| open(k))
+                        .max_by(|a, b| half_area(bvh, *a.1).total_cmp(&half_area(bvh, *b.1)))
+                        .map(|(j, &k)| (j, k))
+                };
+                let inner = largest(&|k| !is_leaf(k)).or_else(|| largest(&|k| bvh.nodes[k].prim_count == 0));
+                let Some((j, k)) = inner else { break };
                 let [c0, c1] = children(bvh, k)?;
                 opened += 1;
                 kids[j] = c0;
@@ -310,8 +327,10 @@ impl WideBvh {
             }
             for (lane, &k) in kids.iter().enumerate() {
                 let child = &bvh.nodes[k];
-                if child.prim_count > 0 {
-                    set_lane(&mut nodes[w], lane, child, child.first_index, child.prim_count);
+                if is_leaf(k) {
+                    let first = u32::try_from(order.len()).ok()?;
+                    let count = push_leaf(bvh, k, &mut order)?;
+                    set_lane(&mut nodes[w], lane, child, first, count);
                 } else {
                     let id = nodes.len();
                     nodes.push(WideNode::EMPTY);
@@ -320,7 +339,7 @@ impl WideBvh {
                 }
             }
         }
-        Some(WideBvh { nodes, arch: pulp::Arch::new() })
+        Some((WideBvh { nodes, arch }, order))
     }
 
     /// Replaces the index of every leaf lane (its first primitive) by `f(first, count)`, in
@@ -498,6 +517,73 @@ fn children(bvh: &Bvh2, b: usize) -> Option<[usize; 2]> {
     (first + 1 < bvh.nodes.len()).then_some([first, first + 1])
 }
 
+/// Primitives of the largest binary subtree that [`WideBvh::from_bvh2`] may make one leaf: two
+/// [`crate::ray_triangle::TrianglePacket`]s (measured on the peer scenes' ray-query bench: 16
+/// beat 8, 12 and 32, with the spare lanes filled as `from_bvh2` does).
+pub(crate) const LEAF_PRIMITIVES: u32 = 2 * crate::ray_triangle::PACKET_WIDTH as u32;
+
+/// The number of primitives under binary node `k` when it is an inner node with at most
+/// [`LEAF_PRIMITIVES`] of them (`None` for more, for a leaf, or for a malformed subtree: the
+/// walk visits at most `2 LEAF_PRIMITIVES` nodes, so a cycle ends it); with `order`, appends
+/// them to it, left child first (nothing is appended on `None`).
+fn subtree_primitives(bvh: &Bvh2, k: usize, order: Option<&mut Vec<u32>>) -> Option<u32> {
+    if bvh.nodes.get(k)?.prim_count > 0 {
+        return None;
+    }
+    // The subtree's leaves, left to right, checked before anything is appended.
+    let mut leaves = [0usize; LEAF_PRIMITIVES as usize];
+    let mut stack = [0usize; 2 * LEAF_PRIMITIVES as usize];
+    let (mut len, mut found, mut count, mut visits) = (1usize, 0usize, 0u32, 0u32);
+    stack[0] = k;
+    while len > 0 {
+        len -= 1;
+        visits += 1;
+        if visits > 2 * LEAF_PRIMITIVES {
+            return None;
+        }
+        let node = bvh.nodes.get(stack[len])?;
+        if node.prim_count > 0 {
+            count = count.checked_add(node.prim_count).filter(|&c| c <= LEAF_PRIMITIVES)?;
+            *leaves.get_mut(found)? = stack[len];
+            found += 1;
+        } else {
+            let [c0, c1] = children(bvh, stack[len])?;
+            // The left child on top, so it is taken first.
+            stack[len] = c1;
+            *stack.get_mut(len + 1)? = c0;
+            len += 2;
+        }
+    }
+    if let Some(order) = order {
+        if leaves[..found].iter().any(|&leaf| leaf_primitives(bvh, leaf).is_none()) {
+            return None;
+        }
+        for &leaf in &leaves[..found] {
+            order.extend_from_slice(leaf_primitives(bvh, leaf).unwrap_or_default());
+        }
+    }
+    Some(count)
+}
+
+/// The primitives of binary leaf `k` (`None` when its range is out of bounds).
+fn leaf_primitives(bvh: &Bvh2, k: usize) -> Option<&[u32]> {
+    let node = bvh.nodes.get(k)?;
+    let first = node.first_index as usize;
+    bvh.primitive_indices.get(first..first.checked_add(node.prim_count as usize)?)
+}
+
+/// Appends the primitives of binary node `k` (a leaf, or a subtree [`subtree_primitives`]
+/// accepts) to `order`; returns how many (`None` if malformed).
+fn push_leaf(bvh: &Bvh2, k: usize, order: &mut Vec<u32>) -> Option<u32> {
+    match leaf_primitives(bvh, k) {
+        Some(prims) if bvh.nodes.get(k)?.prim_count > 0 => {
+            order.extend_from_slice(prims);
+            u32::try_from(prims.len()).ok()
+        }
+        _ => subtree_primitives(bvh, k, Some(order)),
+    }
+}
+
 /// Half the surface area of binary node `k`'s box.
 fn half_area(bvh: &Bvh2, k: usize) -> f32 {
     let a = &bvh.nodes[k].aabb;
@@ -555,9 +641,8 @@ mod tests {
                 })
                 .collect();
             let tree = bvh2(&tris);
-            let wide = WideBvh::from_bvh2(&tree).unwrap();
+            let (wide, order) = WideBvh::from_bvh2(&tree).unwrap();
             assert!(wide.depth() <= MAX_DEPTH);
-            let order = &tree.primitive_indices;
             let mut hits = 0;
             for r in 0..3000 {
                 // Towards a point near a random triangle's centroid, from anywhere around the
@@ -622,14 +707,14 @@ mod tests {
             })
             .collect();
         let tree = bvh2(&tris);
-        let wide = WideBvh::from_bvh2(&tree).unwrap();
+        let (wide, order) = WideBvh::from_bvh2(&tree).unwrap();
         let closest = |ray: &Ray| {
             let mut best = None;
             wide.traverse::<true>(
                 ray,
                 leaf(|first, n, t_max| {
                     for p in first..first + n {
-                        let t = tris[tree.primitive_indices[p as usize] as usize].intersect(ray);
+                        let t = tris[order[p as usize] as usize].intersect(ray);
                         if t < *t_max {
                             (*t_max, best) = (t, Some(t));
                         }
@@ -653,9 +738,57 @@ mod tests {
         assert_eq!(closest(&ray), Some(5.0));
     }
 
+    /// The collapse lays every primitive out once, makes each binary subtree of at most
+    /// [`LEAF_PRIMITIVES`] primitives one leaf, splits such leaves again where a node has lanes
+    /// to spare (so nodes are mostly full: the old collapse, which kept obvhs' leaves of about
+    /// four, left half of each node's lanes empty), and refuses a cyclic tree.
+    #[test]
+    fn small_subtrees_become_leaves_in_full_nodes() {
+        let tris: Vec<Triangle> = (0..3000)
+            .map(|i| {
+                let c = Vec3A::new((i % 17) as f32, ((i / 17) % 13) as f32, (i / 221) as f32) * 0.5;
+                Triangle { v0: c, v1: c + Vec3A::new(0.4, 0.1, 0.0), v2: c + Vec3A::new(0.0, 0.3, 0.2) }
+            })
+            .collect();
+        let tree = bvh2(&tris);
+        let (wide, order) = WideBvh::from_bvh2(&tree).unwrap();
+        let mut laid_out = order.clone();
+        let mut primitives = tree.primitive_indices.clone();
+        laid_out.sort_unstable();
+        primitives.sort_unstable();
+        assert_eq!(laid_out, primitives, "every primitive once, in some leaf");
+        let largest_binary_leaf = tree.nodes.iter().map(|n| n.prim_count).max().unwrap();
+        let (mut lanes, mut covered) = (0usize, vec![false; order.len()]);
+        for node in &wide.nodes {
+            for lane in 0..WIDTH {
+                if node.lo[0][lane] > node.hi[0][lane] {
+                    continue; // unused
+                }
+                lanes += 1;
+                let (first, count) = (node.index[lane] as usize, node.count[lane]);
+                if count > 0 {
+                    assert!(count <= LEAF_PRIMITIVES.max(largest_binary_leaf), "a leaf of {count}");
+                    for c in &mut covered[first..first + count as usize] {
+                        assert!(!*c, "two leaves share a primitive slot");
+                        *c = true;
+                    }
+                }
+            }
+        }
+        assert!(covered.iter().all(|&c| c));
+        let fill = lanes as f64 / wide.nodes.len() as f64;
+        assert!(fill >= 6.0, "{fill:.2} lanes used per node");
+        // An inner node whose child is itself: refused, not walked forever.
+        let mut cyclic = tree.clone();
+        let first = cyclic.nodes[0].first_index;
+        cyclic.nodes[first as usize].prim_count = 0;
+        cyclic.nodes[first as usize].first_index = first;
+        assert!(WideBvh::from_bvh2(&cyclic).is_none());
+    }
+
     #[test]
     fn an_empty_tree_hits_nothing_and_a_deep_one_is_refused() {
-        let empty = WideBvh::from_bvh2(&Bvh2::default()).unwrap();
+        let (empty, _) = WideBvh::from_bvh2(&Bvh2::default()).unwrap();
         let mut called = false;
         empty.traverse::<true>(
             &Ray::new(Vec3A::ZERO, Vec3A::X, 0.0, f32::INFINITY),
@@ -668,7 +801,7 @@ mod tests {
         // Rays with a NaN component or an infinite origin end without a hit (and without
         // visiting a leaf); the same rays with finite components reach the triangle.
         let tris = [Triangle { v0: Vec3A::ZERO, v1: Vec3A::X, v2: Vec3A::Y }];
-        let wide = WideBvh::from_bvh2(&bvh2(&tris)).unwrap();
+        let (wide, _) = WideBvh::from_bvh2(&bvh2(&tris)).unwrap();
         let ray =
             |o: Vec3A, d: Vec3A| Ray { origin: o, direction: d, inv_direction: Vec3A::ONE, tmin: 0.0, tmax: 1e30 };
         let (nan, inf) = (f32::NAN, f32::INFINITY);
