@@ -203,17 +203,26 @@ impl Accel {
         }
     }
 
-    /// True when nothing blocks `origin + t dir` for `t` in `(0, t_max)` (shadow rays).
+    /// True when nothing blocks `origin + t dir` for `t` in `(0, t_max)` (shadow rays). On the
+    /// wide tree a ray with a NaN component or an infinite origin hits nothing, so it is
+    /// unoccluded (obvhs' trees debug-assert a finite ray).
     pub fn unoccluded(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
-        let ray = Ray::new(origin.into(), dir.into(), 0.0, t_max);
         match &self.tree {
             Tree::Wide { bvh, packets } => {
+                // A literal: the walk takes the exact reciprocal itself (see `unbounded_ray`).
+                let ray = Ray { tmax: t_max, ..unbounded_ray(origin, dir) };
                 let mut leaf = AnyInPackets { packets, ray: &ray, hit: false };
                 bvh.traverse::<false>(&ray, &mut leaf);
                 !leaf.hit
             }
-            Tree::Cw { bvh, primitives } => bvh.ray_traverse_miss(ray, |r, id| primitives.intersect(r, id)),
-            Tree::Binary { bvh, primitives } => bvh.ray_traverse_miss(ray, |r, id| primitives.intersect(r, id)),
+            Tree::Cw { bvh, primitives } => {
+                let ray = Ray::new(origin.into(), dir.into(), 0.0, t_max);
+                bvh.ray_traverse_miss(ray, |r, id| primitives.intersect(r, id))
+            }
+            Tree::Binary { bvh, primitives } => {
+                let ray = Ray::new(origin.into(), dir.into(), 0.0, t_max);
+                bvh.ray_traverse_miss(ray, |r, id| primitives.intersect(r, id))
+            }
         }
     }
 }
