@@ -339,8 +339,9 @@ fn packet_count(count: u32) -> usize {
     (count as usize).div_ceil(PACKET_WIDTH)
 }
 
-/// Packs each leaf of `wide` (triangles `first..first + count` of `indices`, the tree's
-/// primitive order) into consecutive [`TrianglePacket`]s and points the leaf at its first.
+/// Packs each leaf of `wide` (triangles `first..first + count` of `indices`, the leaf order
+/// [`WideBvh::from_bvh2`] returned) into consecutive [`TrianglePacket`]s and points the leaf
+/// at its first.
 fn pack_leaves(wide: &mut WideBvh, tris: &[BvhTriangle], indices: &[u32]) -> Vec<TrianglePacket> {
     let mut packets = Vec::new();
     wide.remap_leaves(|first, count| {

@@ -218,8 +218,8 @@ pub(crate) struct WideBvh {
 }
 
 /// What a walk does at a leaf: `visit(first, count, t_max)` tests the leaf's primitives
-/// (`first` is the leaf's index: its first primitive, or what [`WideBvh::remap_leaves`] made
-/// it), lowers `t_max` to a nearer hit and returns true to stop the walk (an any-hit query).
+/// (`first` is the leaf's index: the position of its first primitive in the order
+/// [`WideBvh::from_bvh2`] returns, or what [`WideBvh::remap_leaves`] made it), lowers `t_max` to a nearer hit and returns true to stop the walk (an any-hit query).
 /// A closure is one; a type whose `visit` is `#[inline(always)]` is compiled into the walk
 /// for the walk's vector ISA, where a closure's body may stay a call compiled for the
 /// baseline one.
@@ -342,7 +342,8 @@ impl WideBvh {
         Some((WideBvh { nodes, arch }, order))
     }
 
-    /// Replaces the index of every leaf lane (its first primitive) by `f(first, count)`, in
+    /// Replaces the index of every leaf lane (its first primitive's position in the leaf order)
+    /// by `f(first, count)`, in
     /// node order: lets the caller lay the leaves' primitives out as it tests them.
     pub(crate) fn remap_leaves(&mut self, mut f: impl FnMut(u32, u32) -> u32) {
         for node in &mut self.nodes {
@@ -575,13 +576,12 @@ fn leaf_primitives(bvh: &Bvh2, k: usize) -> Option<&[u32]> {
 /// Appends the primitives of binary node `k` (a leaf, or a subtree [`subtree_primitives`]
 /// accepts) to `order`; returns how many (`None` if malformed).
 fn push_leaf(bvh: &Bvh2, k: usize, order: &mut Vec<u32>) -> Option<u32> {
-    match leaf_primitives(bvh, k) {
-        Some(prims) if bvh.nodes.get(k)?.prim_count > 0 => {
-            order.extend_from_slice(prims);
-            u32::try_from(prims.len()).ok()
-        }
-        _ => subtree_primitives(bvh, k, Some(order)),
+    if bvh.nodes.get(k)?.prim_count == 0 {
+        return subtree_primitives(bvh, k, Some(order));
     }
+    let prims = leaf_primitives(bvh, k)?;
+    order.extend_from_slice(prims);
+    u32::try_from(prims.len()).ok()
 }
 
 /// Half the surface area of binary node `k`'s box.
