@@ -209,7 +209,8 @@ impl Accel {
     pub fn unoccluded(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
         match &self.tree {
             Tree::Wide { bvh, packets } => {
-                // A literal: the walk takes the exact reciprocal itself (see `unbounded_ray`).
+                // A literal, not `Ray::new`: its clamped reciprocal is never read (the walk
+                // takes the exact one), and it debug-asserts a finite ray.
                 let ray = Ray { tmax: t_max, ..unbounded_ray(origin, dir) };
                 let mut leaf = AnyInPackets { packets, ray: &ray, hit: false };
                 bvh.traverse::<false>(&ray, &mut leaf);

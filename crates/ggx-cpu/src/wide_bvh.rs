@@ -206,8 +206,8 @@ fn min_or_b(a: f32, b: f32) -> f32 {
     if a < b { a } else { b }
 }
 
-/// The 8-wide tree; leaves index the primitives of the [`Bvh2`] it was collapsed from
-/// (`Bvh2::primitive_indices` order).
+/// The 8-wide tree; a leaf `(first, count)` indexes the primitive order that
+/// [`WideBvh::from_bvh2`] returns with it (or what [`WideBvh::remap_leaves`] made it).
 pub(crate) struct WideBvh {
     /// Root first; empty for a tree without primitives.
     nodes: Vec<WideNode>,
@@ -219,7 +219,8 @@ pub(crate) struct WideBvh {
 
 /// What a walk does at a leaf: `visit(first, count, t_max)` tests the leaf's primitives
 /// (`first` is the leaf's index: the position of its first primitive in the order
-/// [`WideBvh::from_bvh2`] returns, or what [`WideBvh::remap_leaves`] made it), lowers `t_max` to a nearer hit and returns true to stop the walk (an any-hit query).
+/// [`WideBvh::from_bvh2`] returns, or what [`WideBvh::remap_leaves`] made it), lowers `t_max`
+/// to a nearer hit and returns true to stop the walk (an any-hit query).
 /// A closure is one; a type whose `visit` is `#[inline(always)]` is compiled into the walk
 /// for the walk's vector ISA, where a closure's body may stay a call compiled for the
 /// baseline one.
@@ -278,8 +279,9 @@ impl WideBvh {
     /// four primitives left half of each eight-wide triangle packet and half of each node's
     /// lanes unused). Returns the tree and the primitives in leaf order (entries of
     /// `bvh.primitive_indices`): leaf `(first, count)` holds `order[first..first + count]`.
-    /// `None` when the result is deeper than [`MAX_DEPTH`] or `bvh` is malformed (a child index
-    /// out of range, a cycle): the caller then keeps `bvh`.
+    /// `None` when the result is deeper than [`MAX_DEPTH`] or `bvh` is malformed in a way the
+    /// collapse meets (a child index or a leaf's primitive range out of bounds, a cycle): the
+    /// caller then keeps `bvh`.
     pub(crate) fn from_bvh2(bvh: &Bvh2) -> Option<(WideBvh, Vec<u32>)> {
         let arch = pulp::Arch::new();
         let mut order = Vec::new();
@@ -287,8 +289,10 @@ impl WideBvh {
         if bvh.primitive_indices.is_empty() {
             return Some((WideBvh { nodes: Vec::new(), arch }, order));
         }
+        // A node that stays a leaf: a binary leaf or a small subtree.
+        let is_leaf = |k: usize| bvh.nodes[k].prim_count > 0 || subtree_primitives(bvh, k, None).is_some();
         let mut nodes = vec![WideNode::EMPTY];
-        if root.prim_count > 0 || subtree_primitives(bvh, 0, None).is_some() {
+        if is_leaf(0) {
             let count = push_leaf(bvh, 0, &mut order)?;
             set_lane(&mut nodes[0], 0, root, 0, count);
             return Some((WideBvh { nodes, arch }, order));
@@ -296,8 +300,6 @@ impl WideBvh {
         // (binary node, wide node it becomes, depth); each binary node is opened at most once.
         let mut todo = vec![(0usize, 0usize, 1usize)];
         let mut opened = 0usize;
-        // A child that stays a leaf: a binary leaf or a small subtree.
-        let is_leaf = |k: usize| bvh.nodes[k].prim_count > 0 || subtree_primitives(bvh, k, None).is_some();
         while let Some((b, w, depth)) = todo.pop() {
             if depth > MAX_DEPTH {
                 return None;
@@ -343,8 +345,8 @@ impl WideBvh {
     }
 
     /// Replaces the index of every leaf lane (its first primitive's position in the leaf order)
-    /// by `f(first, count)`, in
-    /// node order: lets the caller lay the leaves' primitives out as it tests them.
+    /// by `f(first, count)`, in node order: lets the caller lay the leaves' primitives out as
+    /// it tests them.
     pub(crate) fn remap_leaves(&mut self, mut f: impl FnMut(u32, u32) -> u32) {
         for node in &mut self.nodes {
             for lane in 0..WIDTH {
@@ -521,12 +523,13 @@ fn children(bvh: &Bvh2, b: usize) -> Option<[usize; 2]> {
 /// Primitives of the largest binary subtree that [`WideBvh::from_bvh2`] may make one leaf: two
 /// [`crate::ray_triangle::TrianglePacket`]s (measured on the peer scenes' ray-query bench: 16
 /// beat 8, 12 and 32, with the spare lanes filled as `from_bvh2` does).
-pub(crate) const LEAF_PRIMITIVES: u32 = 2 * crate::ray_triangle::PACKET_WIDTH as u32;
+const LEAF_PRIMITIVES: u32 = 2 * crate::ray_triangle::PACKET_WIDTH as u32;
 
 /// The number of primitives under binary node `k` when it is an inner node with at most
-/// [`LEAF_PRIMITIVES`] of them (`None` for more, for a leaf, or for a malformed subtree: the
-/// walk visits at most `2 LEAF_PRIMITIVES` nodes, so a cycle ends it); with `order`, appends
-/// them to it, left child first (nothing is appended on `None`).
+/// [`LEAF_PRIMITIVES`] of them (`None` for more, for a leaf, or for a child index out of
+/// bounds: the walk visits at most `2 LEAF_PRIMITIVES` nodes, so a cycle ends it); with
+/// `order`, appends them to it, left child first, and is also `None` for a leaf's primitive
+/// range out of bounds (nothing is appended on `None`).
 fn subtree_primitives(bvh: &Bvh2, k: usize, order: Option<&mut Vec<u32>>) -> Option<u32> {
     if bvh.nodes.get(k)?.prim_count > 0 {
         return None;
@@ -556,11 +559,13 @@ fn subtree_primitives(bvh: &Bvh2, k: usize, order: Option<&mut Vec<u32>>) -> Opt
         }
     }
     if let Some(order) = order {
-        if leaves[..found].iter().any(|&leaf| leaf_primitives(bvh, leaf).is_none()) {
-            return None;
-        }
+        let start = order.len();
         for &leaf in &leaves[..found] {
-            order.extend_from_slice(leaf_primitives(bvh, leaf).unwrap_or_default());
+            let Some(prims) = leaf_primitives(bvh, leaf) else {
+                order.truncate(start);
+                return None;
+            };
+            order.extend_from_slice(prims);
         }
     }
     Some(count)
@@ -574,7 +579,7 @@ fn leaf_primitives(bvh: &Bvh2, k: usize) -> Option<&[u32]> {
 }
 
 /// Appends the primitives of binary node `k` (a leaf, or a subtree [`subtree_primitives`]
-/// accepts) to `order`; returns how many (`None` if malformed).
+/// accepts) to `order`; returns how many (`None` if malformed or too large for a leaf).
 fn push_leaf(bvh: &Bvh2, k: usize, order: &mut Vec<u32>) -> Option<u32> {
     if bvh.nodes.get(k)?.prim_count == 0 {
         return subtree_primitives(bvh, k, Some(order));
@@ -738,10 +743,10 @@ mod tests {
         assert_eq!(closest(&ray), Some(5.0));
     }
 
-    /// The collapse lays every primitive out once, makes each binary subtree of at most
-    /// [`LEAF_PRIMITIVES`] primitives one leaf, splits such leaves again where a node has lanes
-    /// to spare (so nodes are mostly full: the old collapse, which kept obvhs' leaves of about
-    /// four, left half of each node's lanes empty), and refuses a cyclic tree.
+    /// The collapse lays every primitive out once, each leaf's slice of the order inside its
+    /// box; merges binary leaves into leaves of up to [`LEAF_PRIMITIVES`] primitives; fills
+    /// nodes (the old collapse, which kept obvhs' leaves of about four, left half of each
+    /// node's lanes empty); and refuses a cyclic tree and a leaf range out of bounds.
     #[test]
     fn small_subtrees_become_leaves_in_full_nodes() {
         let tris: Vec<Triangle> = (0..3000)
@@ -758,7 +763,7 @@ mod tests {
         primitives.sort_unstable();
         assert_eq!(laid_out, primitives, "every primitive once, in some leaf");
         let largest_binary_leaf = tree.nodes.iter().map(|n| n.prim_count).max().unwrap();
-        let (mut lanes, mut covered) = (0usize, vec![false; order.len()]);
+        let (mut lanes, mut covered, mut largest_leaf) = (0usize, vec![false; order.len()], 0);
         for node in &wide.nodes {
             for lane in 0..WIDTH {
                 if node.lo[0][lane] > node.hi[0][lane] {
@@ -768,14 +773,21 @@ mod tests {
                 let (first, count) = (node.index[lane] as usize, node.count[lane]);
                 if count > 0 {
                     assert!(count <= LEAF_PRIMITIVES.max(largest_binary_leaf), "a leaf of {count}");
-                    for c in &mut covered[first..first + count as usize] {
+                    largest_leaf = largest_leaf.max(count);
+                    for (c, &p) in covered[first..first + count as usize].iter_mut().zip(&order[first..]) {
                         assert!(!*c, "two leaves share a primitive slot");
                         *c = true;
+                        // The slice belongs to this lane: its triangles meet the lane's box (a
+                        // triangle split by the builder's pre-splitting need not lie inside it).
+                        let t = &tris[p as usize];
+                        let (lo, hi) = (t.v0.min(t.v1).min(t.v2).to_array(), t.v0.max(t.v1).max(t.v2).to_array());
+                        assert!((0..3).all(|a| node.lo[a][lane] <= hi[a] && lo[a] <= node.hi[a][lane]));
                     }
                 }
             }
         }
         assert!(covered.iter().all(|&c| c));
+        assert!(largest_leaf > largest_binary_leaf, "no binary leaves merged ({largest_leaf})");
         let fill = lanes as f64 / wide.nodes.len() as f64;
         assert!(fill >= 6.0, "{fill:.2} lanes used per node");
         // An inner node whose child is itself: refused, not walked forever.
@@ -784,6 +796,11 @@ mod tests {
         cyclic.nodes[first as usize].prim_count = 0;
         cyclic.nodes[first as usize].first_index = first;
         assert!(WideBvh::from_bvh2(&cyclic).is_none());
+        // A leaf whose primitives lie past the index list.
+        let mut out_of_range = tree.clone();
+        let leaf = out_of_range.nodes.iter().position(|n| n.prim_count > 0).unwrap();
+        out_of_range.nodes[leaf].first_index = out_of_range.primitive_indices.len() as u32;
+        assert!(WideBvh::from_bvh2(&out_of_range).is_none());
     }
 
     #[test]
