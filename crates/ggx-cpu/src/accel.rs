@@ -146,13 +146,13 @@ impl Accel {
                 (p.lane(best.lane), *p.triangle.get(best.lane)?, best.t)
             }
             Tree::Cw { bvh, primitives } => {
-                let ray = Ray::new(origin.into(), dir.into(), 0.0, t_max);
+                let ray = obvhs_ray(origin, dir, t_max);
                 let mut hit = RayHit::none();
                 let found = bvh.ray_traverse(ray, &mut hit, |r, id| primitives.intersect(r, id));
                 primitives.hit(found, &hit)?
             }
             Tree::Binary { bvh, primitives } => {
-                let ray = Ray::new(origin.into(), dir.into(), 0.0, t_max);
+                let ray = obvhs_ray(origin, dir, t_max);
                 let mut hit = RayHit::none();
                 let found = bvh.ray_traverse(ray, &mut hit, |r, id| primitives.intersect(r, id));
                 primitives.hit(found, &hit)?
@@ -217,15 +217,22 @@ impl Accel {
                 !leaf.hit
             }
             Tree::Cw { bvh, primitives } => {
-                let ray = Ray::new(origin.into(), dir.into(), 0.0, t_max);
+                let ray = obvhs_ray(origin, dir, t_max);
                 bvh.ray_traverse_miss(ray, |r, id| primitives.intersect(r, id))
             }
             Tree::Binary { bvh, primitives } => {
-                let ray = Ray::new(origin.into(), dir.into(), 0.0, t_max);
+                let ray = obvhs_ray(origin, dir, t_max);
                 bvh.ray_traverse_miss(ray, |r, id| primitives.intersect(r, id))
             }
         }
     }
+}
+
+/// The ray `origin + t dir`, `t` in `(0, t_max)`, for obvhs' own walks (`Ray::new`: its clamped
+/// reciprocal, and a debug assertion that the ray is finite).
+#[inline(always)]
+fn obvhs_ray(origin: Vec3, dir: Vec3, t_max: f32) -> Ray {
+    Ray::new(origin.into(), dir.into(), 0.0, t_max)
 }
 
 /// The ray `origin + t dir`, `t` in `(0, inf)`, as the packet tests read it (obvhs'
