@@ -18,9 +18,9 @@
 //! Every variant draws the same sample dimensions in the same order, so a specialized kernel
 //! returns bit-identical radiance to the generic one.
 
-use crate::Hit;
 use crate::offset::offset_ray_origin;
 use crate::scene_data::SceneData;
+use crate::{Hit, PACKET_RAYS};
 use ggx_core::mis::power_heuristic;
 use ggx_core::sequence::PixelSeeds;
 use ggx_core::{Frame, SampleStream};
@@ -138,6 +138,134 @@ fn segment_medium(bsdf: &Bsdf, current: Vec3, wi_z: f32) -> Vec3 {
     }
 }
 
+/// How next-event estimation picks a light, and how emission that BSDF sampling finds is
+/// weighted: the same for every path of a scene (and kernel variant).
+#[derive(Clone, Copy)]
+pub struct LightChoice {
+    /// Next-event estimation is on.
+    use_nee: bool,
+    /// Light and BSDF samples are combined by the power heuristic.
+    use_mis: bool,
+    /// Area lights take part.
+    has_area: bool,
+    /// An environment is present.
+    has_env: bool,
+    /// The environment takes part in next-event estimation (not a constant or uniform one
+    /// under MIS compensation: `Environment::for_integrator`).
+    env_light: bool,
+    /// Punctual lights take part.
+    has_punctual: bool,
+    /// Probabilities of picking area lights, punctual lights and the environment.
+    p_area: f32,
+    p_punctual: f32,
+    p_env: f32,
+}
+
+impl LightChoice {
+    /// The choice for `scene` in the kernel variant `AREA`, `ENV`: area lights, punctual
+    /// lights and the environment share the selection equally.
+    #[inline(always)]
+    pub fn for_scene<const AREA: bool, const ENV: bool>(scene: &SceneData) -> Self {
+        let strategy = scene.light_strategy;
+        let has_area = AREA && !scene.lights.is_empty();
+        let has_env = ENV && scene.environment.is_some();
+        let env_light = has_env && scene.environment_is_light;
+        let has_punctual = AREA && !scene.punctual_lights.is_empty();
+        let classes = u32::from(has_area) + u32::from(env_light) + u32::from(has_punctual);
+        let p_class = if classes > 0 { 1.0 / classes as f32 } else { 0.0 };
+        let p_area = if has_area { p_class } else { 0.0 };
+        let p_punctual = if has_punctual { p_class } else { 0.0 };
+        let p_env = if env_light { 1.0 - p_area - p_punctual } else { 0.0 };
+        LightChoice {
+            use_nee: strategy != LightStrategy::Bsdf,
+            use_mis: strategy == LightStrategy::Mis,
+            has_area,
+            has_env,
+            env_light,
+            has_punctual,
+            p_area,
+            p_punctual,
+            p_env,
+        }
+    }
+
+    /// Weight of emission found by a BSDF sample of MIS density `prev_pdf` (+inf: a delta lobe
+    /// or the camera ray), `pdf_light` its density under next-event estimation: 1 without
+    /// next-event estimation, the power heuristic with MIS, and next-event estimation alone
+    /// counts only what it cannot find (a delta direction).
+    #[inline(always)]
+    fn emission_weight(&self, prev_pdf: f32, pdf_light: impl FnOnce() -> f32) -> f32 {
+        if !self.use_nee {
+            1.0
+        } else if self.use_mis {
+            power_heuristic(1.0, prev_pdf, 1.0, pdf_light())
+        } else if prev_pdf == f32::INFINITY {
+            1.0
+        } else {
+            0.0
+        }
+    }
+}
+
+/// A path that left the scene toward the environment: what its last term, `beta Le w`,
+/// needs. The camera packet looks the environment up for all its escaped paths at once
+/// ([`add_escapes`]), so that the map reads' cache misses overlap.
+#[derive(Clone, Copy)]
+pub struct Escape {
+    /// The escaping direction.
+    dir: Vec3,
+    /// The path throughput.
+    beta: Vec3,
+    /// MIS density of the BSDF sample that produced `dir`.
+    prev_pdf: f32,
+}
+
+/// A traced path: the radiance gathered so far and, if it escaped to the environment, the
+/// term still to add ([`add_escapes`]); then [`finish`].
+#[derive(Clone, Copy, Default)]
+pub struct Traced {
+    /// Radiance gathered before the escape.
+    pub radiance: Vec3,
+    /// The escape term, added by [`add_escapes`].
+    pub escape: Option<Escape>,
+}
+
+/// Adds each escaped path's environment term `beta Le w` to its radiance, the environment
+/// looked up for all of `paths` in one batch ([`ggx_scene::Environment::radiance_and_pdf_batch`]):
+/// the same bits as adding it where the path escaped.
+#[inline(always)]
+pub fn add_escapes<const AREA: bool, const ENV: bool>(scene: &SceneData, paths: &mut [Traced; PACKET_RAYS]) {
+    let Some(env) = scene.environment.as_ref().filter(|_| ENV) else { return };
+    let mut dirs = [Vec3::ZERO; PACKET_RAYS];
+    let mut which = [0usize; PACKET_RAYS];
+    let mut n = 0;
+    for (k, path) in paths.iter().enumerate() {
+        if let Some(e) = path.escape {
+            (dirs[n], which[n]) = (e.dir, k);
+            n += 1;
+        }
+    }
+    if n == 0 {
+        return;
+    }
+    let mut found = [(Vec3::ZERO, 0.0f32); PACKET_RAYS];
+    env.radiance_and_pdf_batch(&dirs[..n], &mut found[..n]);
+    let lights = LightChoice::for_scene::<AREA, ENV>(scene);
+    for (&k, &(le, pdf_env)) in which.iter().zip(&found).take(n) {
+        let path = &mut paths[k];
+        if let Some(e) = path.escape.take() {
+            let w = lights.emission_weight(e.prev_pdf, || lights.p_env * pdf_env);
+            path.radiance += e.beta * le * w;
+        }
+    }
+}
+
+/// The sample a traced path adds to its pixel: its radiance, or zero when not finite.
+#[inline(always)]
+pub fn finish(path: Traced) -> Vec3 {
+    if path.radiance.is_finite() { path.radiance } else { Vec3::ZERO }
+}
+
 /// Radiance along the camera ray `(origin, dir)`, whose closest hit `camera_hit` is already
 /// found (camera rays are traced in packets: [`crate::Accel::closest_packet`]), its random
 /// numbers drawn from `stream` with the pixel's scramble seeds kept in `seeds`.
@@ -151,23 +279,10 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
     stream: &mut SampleStream,
     seeds: &mut PixelSeeds,
     counters: &mut Counters,
-) -> Vec3 {
-    let strategy = scene.light_strategy;
-    let use_nee = strategy != LightStrategy::Bsdf;
-    let use_mis = strategy == LightStrategy::Mis;
-    let has_area = AREA && !scene.lights.is_empty();
-    let has_env = ENV && scene.environment.is_some();
-    // The environment takes part in next-event estimation (not a constant or uniform one
-    // under MIS compensation: `Environment::for_integrator`).
-    let env_light = has_env && scene.environment_is_light;
-    let has_punctual = AREA && !scene.punctual_lights.is_empty();
-    // Probability of choosing each light type in next-event estimation: area lights, punctual
-    // lights and the environment share the selection equally.
-    let classes = u32::from(has_area) + u32::from(env_light) + u32::from(has_punctual);
-    let p_class = if classes > 0 { 1.0 / classes as f32 } else { 0.0 };
-    let p_area = if has_area { p_class } else { 0.0 };
-    let p_punctual = if has_punctual { p_class } else { 0.0 };
-    let p_env = if env_light { 1.0 - p_area - p_punctual } else { 0.0 };
+) -> Traced {
+    let lights = LightChoice::for_scene::<AREA, ENV>(scene);
+    let LightChoice { use_nee, use_mis, has_area, has_env, env_light, has_punctual, p_area, p_punctual, p_env } =
+        lights;
     let draws = Draws {
         lobe: scene.uses_lobe_sample,
         light: use_nee && (has_area || env_light || has_punctual),
@@ -202,21 +317,9 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
             };
         }
         let Some(hit) = hit else {
-            if has_env && let Some(env) = &scene.environment {
-                let (le, pdf_env) = env.radiance_and_pdf(dir);
-                let w = if !use_nee {
-                    1.0
-                } else if use_mis {
-                    power_heuristic(1.0, prev_pdf, 1.0, p_env * pdf_env)
-                } else if prev_pdf == f32::INFINITY {
-                    // NEE alone cannot find a delta direction: the BSDF sample counts in full.
-                    1.0
-                } else {
-                    0.0
-                };
-                radiance += beta * le * w;
-            }
-            break;
+            // The environment's term is added with the packet's other escapes (`add_escapes`).
+            let escape = has_env.then_some(Escape { dir, beta, prev_pdf });
+            return Traced { radiance, escape };
         };
         let Some(tri) = scene.triangles.get(hit.triangle as usize) else { break };
         let ng = scene.geometric_normals.get(hit.triangle as usize).copied().unwrap_or(Vec3::ZERO);
@@ -232,16 +335,9 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
                 } else {
                     scene.emission.get(material).copied().unwrap_or(Vec3::ZERO)
                 };
-                let w = if !use_nee {
-                    1.0
-                } else if use_mis {
-                    let pdf_area = scene.lights.pdf_area(tri.emitter as usize);
-                    power_heuristic(1.0, prev_pdf, 1.0, p_area * pdf_area * hit.t * hit.t / cos_l)
-                } else if prev_pdf == f32::INFINITY {
-                    1.0
-                } else {
-                    0.0
-                };
+                let w = lights.emission_weight(prev_pdf, || {
+                    p_area * scene.lights.pdf_area(tri.emitter as usize) * hit.t * hit.t / cos_l
+                });
                 radiance += beta * le * w;
             }
         }
@@ -451,5 +547,5 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
             break;
         }
     }
-    if radiance.is_finite() { radiance } else { Vec3::ZERO }
+    Traced { radiance, escape: None }
 }

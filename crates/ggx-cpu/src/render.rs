@@ -10,7 +10,7 @@
 //! a time budget, which ends the render after however many passes fit, depends on the clock.
 
 use crate::PACKET_RAYS;
-use crate::integrator::{Counters, trace};
+use crate::integrator::{Counters, Traced, add_escapes, finish, trace};
 use crate::scene_data::SceneData;
 use ggx_core::sequence::PixelSeeds;
 use ggx_core::{SampleStream, SequenceKind};
@@ -104,13 +104,16 @@ impl CameraPacket {
         let count = core::mem::take(&mut self.count);
         let mut hits = [None; PACKET_RAYS];
         scene.accel.closest_packet(&self.rays[..count], &mut hits[..count]);
+        let mut traced = [Traced::default(); PACKET_RAYS];
         let paths = self.slots.iter().zip(&self.rays).zip(self.streams.iter_mut()).zip(hits).take(count);
-        for (((&slot, &(origin, dir)), stream), hit) in paths {
+        for ((((&slot, &(origin, dir)), stream), hit), path) in paths.zip(&mut traced) {
             let seeds = &mut seeds[slot % PACKET_RAYS];
-            let radiance =
-                trace::<AREA, ENV, PLASTIC, DIELECTRIC, TEX>(scene, origin, dir, hit, stream, seeds, counters);
+            *path = trace::<AREA, ENV, PLASTIC, DIELECTRIC, TEX>(scene, origin, dir, hit, stream, seeds, counters);
+        }
+        add_escapes::<AREA, ENV>(scene, &mut traced);
+        for (&slot, &path) in self.slots.iter().zip(&traced).take(count) {
             if let Some(sum) = out.get_mut(slot) {
-                sum.add(radiance);
+                sum.add(finish(path));
             }
         }
     }

@@ -408,3 +408,35 @@ fn exr_and_hdr_files_load_texel_exact() {
         }
     }
 }
+
+/// The batched escaped-path lookup is the single one, bit for bit, for any number of
+/// directions (more than one batch, a partial batch, none), hostile directions included, and
+/// fills only as many results as it has directions or room for.
+#[test]
+fn batched_lookups_are_the_single_lookups() {
+    let mut rng = Lcg(23);
+    let mut directions: Vec<Vec3> = (0..37).map(|_| ggx_scene::uniform_sphere(rng.vec2())).collect();
+    directions.extend([Vec3::ZERO, Vec3::NAN, Vec3::INFINITY, Vec3::NEG_Y, Vec3::Y, Vec3::new(3.0, -4.0, 0.5)]);
+    let environments = [0.0, 40.0]
+        .into_iter()
+        .flat_map(both_maps)
+        .map(Environment::Map)
+        .chain([Environment::Constant(Vec3::new(0.5, 1.0, 2.0))]);
+    for env in environments {
+        let want: Vec<(Vec3, f32)> = directions.iter().map(|&d| env.radiance_and_pdf(d)).collect();
+        let bits = |v: &[(Vec3, f32)]| {
+            v.iter().map(|(l, p)| (l.to_array().map(f32::to_bits), p.to_bits())).collect::<Vec<_>>()
+        };
+        for n in [0, 1, 16, 17, directions.len()] {
+            let sentinel = (Vec3::splat(-1.0), -1.0);
+            let mut out = vec![sentinel; directions.len() + 3];
+            env.radiance_and_pdf_batch(&directions[..n], &mut out);
+            assert_eq!(bits(&out[..n]), bits(&want[..n]), "{n} directions");
+            assert!(out[n..].iter().all(|&o| o == sentinel), "wrote past {n} directions");
+        }
+        // Less room than directions: the first results only.
+        let mut out = vec![(Vec3::ZERO, 0.0); 5];
+        env.radiance_and_pdf_batch(&directions, &mut out);
+        assert_eq!(bits(&out), bits(&want[..5]));
+    }
+}

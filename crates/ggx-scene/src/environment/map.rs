@@ -12,6 +12,9 @@ use crate::material::LUMINANCE_WEIGHTS;
 use crate::radiance::{MAX_RADIANCE, OVER_MAX_RADIANCE};
 use crate::sample_inputs::{SampleInputSink, pod_part, write_distribution_2d};
 
+/// Directions per pass of [`EnvMap::radiance_and_pdf_batch`]: a camera packet's paths.
+pub const LOOKUP_BATCH: usize = 16;
+
 /// An equirectangular environment map (see the module docs for the convention).
 ///
 /// Lookups are nearest-texel, so radiance is constant over each texel; the sampling
@@ -216,8 +219,7 @@ impl EnvMap {
     /// Scaled radiance and solid-angle density of texel `(col, row)` seen at `sin theta`,
     /// from one read of its record.
     fn texel_and_pdf(&self, col: usize, row: usize, sin_theta: f32) -> (Vec3, f32) {
-        let t = self.record(col, row);
-        (self.scaled(t), solid_angle_pdf(t[3], sin_theta))
+        self.radiance_and_pdf_of(self.record(col, row), sin_theta)
     }
 
     /// Samples a unit world direction from `u` in `[0, 1)^2`; returns it with its
@@ -247,9 +249,44 @@ impl EnvMap {
     /// [`Self::radiance`] and [`Self::pdf`] along unit world `direction` (the same values),
     /// finding the texel once: what a path that escapes to the environment needs.
     pub fn radiance_and_pdf(&self, direction: Vec3) -> (Vec3, f32) {
+        let (index, sin_theta) = self.locate(direction);
+        self.radiance_and_pdf_of(self.texels.get(index).copied().unwrap_or_default(), sin_theta)
+    }
+
+    /// [`Self::radiance_and_pdf`] of each of `directions` into `out` (the shorter length of
+    /// the two), the same bits, in three passes over up to [`LOOKUP_BATCH`] directions at a
+    /// time: locate every texel, read every record, then scale them. The reads of a batch do not
+    /// wait for one another, so their cache misses (the texels of a large map are beyond a
+    /// core's L2) overlap instead of following one by one.
+    pub fn radiance_and_pdf_batch(&self, directions: &[Vec3], out: &mut [(Vec3, f32)]) {
+        for (directions, out) in directions.chunks(LOOKUP_BATCH).zip(out.chunks_mut(LOOKUP_BATCH)) {
+            let mut located = [(0usize, 0.0f32); LOOKUP_BATCH];
+            for (l, &d) in located.iter_mut().zip(directions) {
+                *l = self.locate(d);
+            }
+            let mut records = [[0.0f32; 4]; LOOKUP_BATCH];
+            for (r, &(index, _)) in records.iter_mut().zip(&located).take(directions.len()) {
+                *r = self.texels.get(index).copied().unwrap_or_default();
+            }
+            for ((o, &r), &(_, sin_theta)) in out.iter_mut().zip(&records).zip(&located).take(directions.len()) {
+                *o = self.radiance_and_pdf_of(r, sin_theta);
+            }
+        }
+    }
+
+    /// The row-major index of the texel seen along unit world `direction`, and `sin theta`
+    /// there.
+    #[inline(always)]
+    fn locate(&self, direction: Vec3) -> (usize, f32) {
         let d = self.to_map(direction);
         let (col, row) = self.cell(d);
-        self.texel_and_pdf(col, row, (1.0 - d.y * d.y).max(0.0).sqrt())
+        (row * self.width as usize + col, (1.0 - d.y * d.y).max(0.0).sqrt())
+    }
+
+    /// Scaled radiance and solid-angle density of a texel's record seen at `sin theta`.
+    #[inline(always)]
+    fn radiance_and_pdf_of(&self, record: [f32; 4], sin_theta: f32) -> (Vec3, f32) {
+        (self.scaled(record), solid_angle_pdf(record[3], sin_theta))
     }
 }
 

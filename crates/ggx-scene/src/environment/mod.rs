@@ -22,7 +22,7 @@ use crate::{IntegratorSettings, LightStrategy};
 pub use build::MAX_PROCEDURAL_WIDTH;
 pub(crate) use build::{build, check_with_triangles};
 pub use load::{MAX_MAP_SIZE, load_image};
-pub use map::EnvMap;
+pub use map::{EnvMap, LOOKUP_BATCH};
 pub use procedural::{sky, studio};
 
 /// Radiance arriving from infinitely far away.
@@ -95,6 +95,15 @@ impl Environment {
         match self {
             Self::Constant(l) => (*l, 0.25 * FRAC_1_PI),
             Self::Map(m) => m.radiance_and_pdf(direction),
+        }
+    }
+
+    /// [`Self::radiance_and_pdf`] of each of `directions` into `out` (the shorter length of the
+    /// two), the same bits; a map reads its texels in batches ([`EnvMap::radiance_and_pdf_batch`]).
+    pub fn radiance_and_pdf_batch(&self, directions: &[Vec3], out: &mut [(Vec3, f32)]) {
+        match self {
+            Self::Constant(l) => out.iter_mut().take(directions.len()).for_each(|o| *o = (*l, 0.25 * FRAC_1_PI)),
+            Self::Map(m) => m.radiance_and_pdf_batch(directions, out),
         }
     }
 }
