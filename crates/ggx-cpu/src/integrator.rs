@@ -42,7 +42,8 @@ pub struct Counters {
 /// The random numbers of one bounce. Drawn after the path is known to continue, and only
 /// those the scene can use (`draw` depends on per-scene values alone, never on the kernel
 /// variant, so every variant consumes the same dimensions in the same order).
-struct BounceSamples {
+#[derive(Clone, Copy)]
+pub struct BounceSamples {
     bsdf: Vec2,
     lobe: f32,
     light: Vec2,
@@ -56,6 +57,25 @@ struct Draws {
     lobe: bool,
     light: bool,
     select: bool,
+}
+
+impl Draws {
+    /// The dimensions a bounce of `scene` consumes with lights chosen as `lights` says.
+    #[inline(always)]
+    fn for_scene(scene: &SceneData, lights: &LightChoice) -> Self {
+        Draws {
+            lobe: scene.uses_lobe_sample,
+            light: lights.use_nee && (lights.has_area || lights.env_light || lights.has_punctual),
+            // Area lights need the dimension to pick an emitter even without another light type.
+            select: lights.use_nee && (lights.has_area || lights.has_punctual),
+        }
+    }
+}
+
+/// Whether the bounce at `depth` draws a Russian roulette number (from `roulette_depth` on).
+#[inline(always)]
+fn draws_roulette(scene: &SceneData, depth: u32) -> bool {
+    scene.roulette_depth > 0 && depth + 1 >= scene.roulette_depth
 }
 
 impl BounceSamples {
@@ -189,6 +209,15 @@ impl LightChoice {
         }
     }
 
+    /// Which light class next-event estimation picks with `select`: `(area, punctual)`, the
+    /// environment when neither is picked and it takes part.
+    #[inline(always)]
+    fn pick(&self, select: f32) -> (bool, bool) {
+        let pick_area = self.has_area && select < self.p_area;
+        let pick_punctual = !pick_area && self.has_punctual && select < self.p_area + self.p_punctual;
+        (pick_area, pick_punctual)
+    }
+
     /// Weight of emission found by a BSDF sample of MIS density `prev_pdf` (+inf: a delta lobe
     /// or the camera ray), `pdf_light` its density under next-event estimation: 1 without
     /// next-event estimation, the power heuristic with MIS, and next-event estimation alone
@@ -205,6 +234,69 @@ impl LightChoice {
             0.0
         }
     }
+}
+
+/// A camera path's first bounce drawn ahead, with the packet's other paths
+/// ([`draw_first_bounces`]): its random numbers and, when next-event estimation picks the
+/// environment, the environment light sample.
+#[derive(Clone, Copy)]
+pub struct FirstBounce {
+    samples: BounceSamples,
+    env_sample: Option<(Vec3, f32, Vec3)>,
+}
+
+/// In a scene whose next-event estimation samples the environment, draws the first bounce
+/// of each of a packet's paths whose camera ray hit a surface that is not a delta BSDF (`hits`, `streams` past the pixel jitter, the pixel seeds of tile pixel
+/// `slots[k]` in `seeds[slots[k] % PACKET_RAYS]`), the same numbers each path would draw there itself; then samples the
+/// environment for all the paths that pick it, in one batch
+/// ([`ggx_scene::Environment::sample_with_radiance_batch`]), so that the table reads' cache
+/// misses overlap. Fills `firsts` (`None` for a path not drawn ahead) and returns true, or
+/// returns false, leaving `firsts` as it is, when nothing is drawn ahead for this scene.
+#[inline(always)]
+pub fn draw_first_bounces<const AREA: bool, const ENV: bool>(
+    scene: &SceneData,
+    hits: &[Option<Hit>],
+    streams: &mut [SampleStream],
+    slots: &[usize],
+    seeds: &mut [PixelSeeds; PACKET_RAYS],
+    firsts: &mut [Option<FirstBounce>; PACKET_RAYS],
+) -> bool {
+    let lights = LightChoice::for_scene::<AREA, ENV>(scene);
+    // Drawn ahead only for the environment's light samples.
+    if scene.max_depth == 0 || !(lights.use_nee && lights.env_light) {
+        return false;
+    }
+    let (draws, roulette) = (Draws::for_scene(scene, &lights), draws_roulette(scene, 0));
+    let mut us = [Vec2::ZERO; PACKET_RAYS];
+    let mut which = [0usize; PACKET_RAYS];
+    let mut n = 0;
+    for (k, (((first, hit), stream), &slot)) in firsts.iter_mut().zip(hits).zip(streams).zip(slots).enumerate() {
+        *first = None;
+        let Some(hit) = hit else { continue };
+        let material = scene.triangles.get(hit.triangle as usize).map(|t| t.material as usize);
+        if material.and_then(|m| scene.bsdfs.get(m)).is_none_or(|b| b.is_delta()) {
+            continue;
+        }
+        let samples = BounceSamples::draw(stream, &mut seeds[slot % PACKET_RAYS], draws, roulette);
+        let (pick_area, pick_punctual) = lights.pick(samples.select);
+        if lights.use_nee && lights.env_light && !pick_area && !pick_punctual {
+            (us[n], which[n]) = (samples.light, k);
+            n += 1;
+        }
+        *first = Some(FirstBounce { samples, env_sample: None });
+    }
+    if n > 0
+        && let Some(env) = scene.environment.as_ref().filter(|_| ENV)
+    {
+        let mut found = [(Vec3::ZERO, 0.0f32, Vec3::ZERO); PACKET_RAYS];
+        env.sample_with_radiance_batch(&us[..n], &mut found[..n]);
+        for (&k, &sample) in which.iter().zip(&found).take(n) {
+            if let Some(first) = &mut firsts[k] {
+                first.env_sample = Some(sample);
+            }
+        }
+    }
+    true
 }
 
 /// A path that left the scene toward the environment: what its last term, `beta Le w`,
@@ -276,19 +368,14 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
     mut origin: Vec3,
     mut dir: Vec3,
     camera_hit: Option<Hit>,
+    mut first: Option<FirstBounce>,
     stream: &mut SampleStream,
     seeds: &mut PixelSeeds,
     counters: &mut Counters,
 ) -> Traced {
     let lights = LightChoice::for_scene::<AREA, ENV>(scene);
-    let LightChoice { use_nee, use_mis, has_area, has_env, env_light, has_punctual, p_area, p_punctual, p_env } =
-        lights;
-    let draws = Draws {
-        lobe: scene.uses_lobe_sample,
-        light: use_nee && (has_area || env_light || has_punctual),
-        // Area lights need the dimension to pick an emitter even without another light type.
-        select: use_nee && (has_area || has_punctual),
-    };
+    let LightChoice { use_nee, use_mis, has_env, env_light, p_area, p_punctual, p_env, .. } = lights;
+    let draws = Draws::for_scene(scene, &lights);
 
     let mut radiance = Vec3::ZERO;
     let mut beta = Vec3::ONE;
@@ -356,8 +443,11 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
         if depth >= scene.max_depth || !bsdf.reflects() {
             break;
         }
-        let roulette = scene.roulette_depth > 0 && depth + 1 >= scene.roulette_depth;
-        let s = BounceSamples::draw(stream, seeds, draws, roulette);
+        // The first bounce's numbers may be drawn already (`draw_first_bounces`): the same ones.
+        let (s, mut env_sample) = match first.take() {
+            Some(f) => (f.samples, f.env_sample),
+            None => (BounceSamples::draw(stream, seeds, draws, draws_roulette(scene, depth)), None),
+        };
 
         // Shading frame: on the side the ray arrives from for two-sided materials, around the
         // outward normal for a dielectric with an inside (`wo.z < 0` from inside).
@@ -399,8 +489,7 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
 
         // Next-event estimation.
         if use_nee && !bsdf.is_delta() {
-            let pick_area = has_area && s.select < p_area;
-            let pick_punctual = !pick_area && has_punctual && s.select < p_area + p_punctual;
+            let (pick_area, pick_punctual) = lights.pick(s.select);
             if AREA && pick_punctual {
                 // One punctual light, uniformly: a delta light, no MIS.
                 let n = scene.punctual_lights.len();
@@ -489,7 +578,7 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
                 && env_light
                 && let Some(env) = &scene.environment
             {
-                let (wi_world, pdf, le) = env.sample_with_radiance(s.light);
+                let (wi_world, pdf, le) = env_sample.take().unwrap_or_else(|| env.sample_with_radiance(s.light));
                 let pdf_light = p_env * pdf;
                 let wi = frame.to_local(wi_world);
                 if sides_agree(wi, wi_world, ng, transmits) && pdf_light > 0.0 && pdf_light.is_finite() {
@@ -548,4 +637,141 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
         }
     }
     Traced { radiance, escape: None }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::AccelKind;
+    use ggx_core::SequenceKind;
+    use std::path::Path;
+
+    /// A plastic floor, rough and smooth (delta) conductors, an area light and a procedural sky
+    /// that next-event estimation samples; roulette from the first bounce on.
+    const SCENE: &str = r#"
+[camera]
+position = [0, 1.2, 4]
+look_at = [0, 0.4, 0]
+fov_y = 45.0
+resolution = [24, 16]
+
+[integrator]
+max_depth = 4
+russian_roulette = 1
+
+[environment]
+type = "procedural"
+preset = "sky"
+resolution = [64, 32]
+rotation = 30
+
+[materials.floor]
+type = "plastic"
+roughness = 0.5
+ior = 1.5
+albedo = [0.45, 0.45, 0.42]
+
+[materials.gold]
+type = "conductor"
+roughness = 0.3
+preset = "gold"
+
+[materials.mirror]
+type = "conductor"
+roughness = 0.0
+preset = "silver"
+
+[materials.lamp]
+type = "emissive"
+radiance = [4, 4, 4]
+
+[[shapes]]
+type = "rectangle"
+material = "floor"
+transform = { rotate = [-90, 0, 0], scale = 8 }
+
+[[shapes]]
+type = "sphere"
+material = "gold"
+center = [-0.6, 0.5, 0]
+radius = 0.5
+
+[[shapes]]
+type = "sphere"
+material = "mirror"
+center = [0.6, 0.5, 0]
+radius = 0.5
+
+[[shapes]]
+type = "rectangle"
+material = "lamp"
+transform = { translate = [0, 3, 1], rotate = [90, 0, 0], scale = 0.5 }
+"#;
+
+    /// A path whose first bounce was drawn ahead with its packet's (`draw_first_bounces`)
+    /// returns the bits of the same path drawing it itself, over every pixel and 16 samples,
+    /// and the environment's light samples were drawn ahead for some of them.
+    #[test]
+    fn first_bounces_drawn_ahead_are_the_bounces_drawn_in_the_path() {
+        let scene = ggx_scene::parse_scene(SCENE, "test.toml", Path::new(".")).unwrap_or_else(|e| panic!("{e}"));
+        let data = SceneData::new(&scene, AccelKind::default());
+        assert!(data.environment_is_light && !data.lights.is_empty());
+        let [w, h] = data.camera.resolution;
+        let mut counters = Counters::default();
+        let (mut ahead, mut env_ahead) = (0, 0);
+        for pixel in 0..w * h {
+            let mut seeds = core::array::from_fn(|_| PixelSeeds::new(0));
+            let seed = SampleStream::new(SequenceKind::Sobol, 5, pixel, 0).seed;
+            seeds[0] = PixelSeeds::new(seed);
+            let mut streams = [SampleStream { kind: 0, seed: 0, sample_index: 0, dimension: 0 }; PACKET_RAYS];
+            let mut rays = [(Vec3::ZERO, Vec3::ZERO); PACKET_RAYS];
+            for (s, (stream, ray)) in streams.iter_mut().zip(&mut rays).enumerate() {
+                *stream = SampleStream::new(SequenceKind::Sobol, 5, pixel, s as u32);
+                let jitter = stream.next_2d_with(&mut seeds[0]);
+                let xy = Vec2::new((pixel % w) as f32, (pixel / w) as f32) + jitter;
+                *ray = data.ray_generator.generate_ray(xy);
+            }
+            let hits = rays.map(|(o, d)| data.accel.closest(o, d, f32::INFINITY));
+            let in_path = streams;
+            let mut firsts = [None; PACKET_RAYS];
+            let slots = [0; PACKET_RAYS];
+            assert!(draw_first_bounces::<true, true>(&data, &hits, &mut streams, &slots, &mut seeds, &mut firsts));
+            ahead += firsts.iter().flatten().count();
+            env_ahead += firsts.iter().flatten().filter(|f| f.env_sample.is_some()).count();
+            for k in 0..PACKET_RAYS {
+                let (o, d) = rays[k];
+                let mut stream = in_path[k];
+                let want = trace::<true, true, true, true, false>(
+                    &data,
+                    o,
+                    d,
+                    hits[k],
+                    None,
+                    &mut stream,
+                    &mut seeds[0],
+                    &mut counters,
+                );
+                let got = trace::<true, true, true, true, false>(
+                    &data,
+                    o,
+                    d,
+                    hits[k],
+                    firsts[k],
+                    &mut streams[k],
+                    &mut seeds[0],
+                    &mut counters,
+                );
+                let bits = |t: &Traced| {
+                    (t.radiance.to_array().map(f32::to_bits), t.escape.map(|e| (e.dir, e.beta, e.prev_pdf.to_bits())))
+                };
+                assert_eq!(bits(&got), bits(&want), "pixel {pixel} sample {k}");
+                assert_eq!(stream, streams[k], "pixel {pixel} sample {k}: the dimensions consumed");
+            }
+        }
+        // Paths that hit the delta mirror or nothing are not drawn ahead; the others are, and
+        // those that pick the environment (half of them) carry its light sample.
+        let paths = (w * h) as usize * PACKET_RAYS;
+        assert!(ahead > paths / 2 && ahead < paths, "{ahead} of {paths} drawn ahead");
+        assert!(env_ahead > ahead / 3 && env_ahead < ahead, "{env_ahead} environment samples of {ahead}");
+    }
 }

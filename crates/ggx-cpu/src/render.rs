@@ -10,7 +10,7 @@
 //! a time budget, which ends the render after however many passes fit, depends on the clock.
 
 use crate::PACKET_RAYS;
-use crate::integrator::{Counters, Traced, add_escapes, finish, trace};
+use crate::integrator::{Counters, FirstBounce, Traced, add_escapes, draw_first_bounces, finish, trace};
 use crate::scene_data::SceneData;
 use ggx_core::sequence::PixelSeeds;
 use ggx_core::{SampleStream, SequenceKind};
@@ -63,6 +63,8 @@ struct CameraPacket {
     rays: [(Vec3, Vec3); PACKET_RAYS],
     /// Rays held.
     count: usize,
+    /// The paths' first bounces when drawn ahead (`draw_first_bounces`).
+    firsts: [Option<FirstBounce>; PACKET_RAYS],
 }
 
 impl Default for CameraPacket {
@@ -73,6 +75,7 @@ impl Default for CameraPacket {
             streams: [stream; PACKET_RAYS],
             rays: [(Vec3::ZERO, Vec3::ZERO); PACKET_RAYS],
             count: 0,
+            firsts: [None; PACKET_RAYS],
         }
     }
 }
@@ -104,11 +107,21 @@ impl CameraPacket {
         let count = core::mem::take(&mut self.count);
         let mut hits = [None; PACKET_RAYS];
         scene.accel.closest_packet(&self.rays[..count], &mut hits[..count]);
+        let drawn = draw_first_bounces::<AREA, ENV>(
+            scene,
+            &hits[..count],
+            &mut self.streams[..count],
+            &self.slots[..count],
+            seeds,
+            &mut self.firsts,
+        );
         let mut traced = [Traced::default(); PACKET_RAYS];
-        let paths = self.slots.iter().zip(&self.rays).zip(self.streams.iter_mut()).zip(hits).take(count);
-        for ((((&slot, &(origin, dir)), stream), hit), path) in paths.zip(&mut traced) {
+        let paths = self.slots.iter().zip(&self.rays).zip(self.streams.iter_mut()).zip(&hits).zip(&mut self.firsts);
+        for (((((&slot, &(origin, dir)), stream), &hit), first), path) in paths.zip(&mut traced).take(count) {
             let seeds = &mut seeds[slot % PACKET_RAYS];
-            *path = trace::<AREA, ENV, PLASTIC, DIELECTRIC, TEX>(scene, origin, dir, hit, stream, seeds, counters);
+            let first = if drawn { first.take() } else { None };
+            *path =
+                trace::<AREA, ENV, PLASTIC, DIELECTRIC, TEX>(scene, origin, dir, hit, first, stream, seeds, counters);
         }
         add_escapes::<AREA, ENV>(scene, &mut traced);
         for (&slot, &path) in self.slots.iter().zip(&traced).take(count) {

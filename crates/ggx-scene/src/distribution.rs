@@ -89,11 +89,22 @@ impl Distribution1D {
 /// as a binary search over `cdf`, which is what the GPU kernel runs.
 fn invert_cdf(cdf: &[f32], guide: &[u32], u: f32) -> Option<(usize, f32)> {
     let n = cdf.len().checked_sub(1).filter(|&n| n > 0)?;
-    let u = if u.is_nan() { 0.0 } else { u.clamp(0.0, ONE_MINUS_EPSILON) };
+    let u = clamp_u(u);
     let i = find_segment(cdf, guide, n, u);
+    Some((i, segment_offset(cdf, i, u)))
+}
+
+/// `u` clamped to `[0, 1)`, NaN to 0.
+#[inline(always)]
+fn clamp_u(u: f32) -> f32 {
+    if u.is_nan() { 0.0 } else { u.clamp(0.0, ONE_MINUS_EPSILON) }
+}
+
+/// The offset of `u` inside segment `i` in `[0, 1)` (the middle of a zero-width one).
+#[inline(always)]
+fn segment_offset(cdf: &[f32], i: usize, u: f32) -> f32 {
     let width = cdf[i + 1] - cdf[i];
-    let du = if width > 0.0 { ((u - cdf[i]) / width).clamp(0.0, ONE_MINUS_EPSILON) } else { 0.5 };
-    Some((i, du))
+    if width > 0.0 { ((u - cdf[i]) / width).clamp(0.0, ONE_MINUS_EPSILON) } else { 0.5 }
 }
 
 /// The last segment `i < n` with `cdf[i] <= u` for `u` in `[0, 1)`, which is
@@ -102,8 +113,20 @@ fn invert_cdf(cdf: &[f32], guide: &[u32], u: f32) -> Option<(usize, f32)> {
 /// entries the walk takes about one step on average (the cutpoint method, Chen & Asau 1974;
 /// Devroye 1986, 3.2.4) where the binary search takes `log2 n` dependent loads.
 fn find_segment(cdf: &[f32], guide: &[u32], n: usize, u: f32) -> usize {
+    walk_to_segment(cdf, n, u, guide_start(guide, n, u))
+}
+
+/// The guide's starting segment for `u` (0 without a guide), below `n`.
+#[inline(always)]
+fn guide_start(guide: &[u32], n: usize, u: f32) -> usize {
     let k = ((u * guide.len() as f32) as usize).min(guide.len().saturating_sub(1));
-    let mut i = guide.get(k).map_or(0, |&g| (g as usize).min(n - 1));
+    guide.get(k).map_or(0, |&g| (g as usize).min(n - 1))
+}
+
+/// [`find_segment`]'s walk from segment `start`, down then up.
+#[inline(always)]
+fn walk_to_segment(cdf: &[f32], n: usize, u: f32, start: usize) -> usize {
+    let mut i = start;
     while i > 0 && cdf[i] > u {
         i -= 1;
     }
@@ -126,6 +149,27 @@ pub fn guide_table(cdf: &[f32], buckets: usize) -> Vec<u32> {
             cdf.partition_point(|&c| c <= u).saturating_sub(1).min(n - 1) as u32
         })
         .collect()
+}
+
+/// Samples or lookups per pass of the batched table reads ([`Distribution2D::sample_cells`],
+/// `EnvMap`'s `*_batch` lookups): a camera packet's paths.
+pub const LOOKUP_BATCH: usize = 16;
+
+/// A row [`Distribution2D::sample`] picked, and the sampled `y` in it.
+#[derive(Clone, Copy)]
+struct SampledRow {
+    y: f32,
+    row: usize,
+}
+
+/// A column search's state after the guide: the row, its segment count, the clamped `u` and
+/// the guide's segment.
+#[derive(Clone, Copy)]
+struct ColumnStart {
+    row: SampledRow,
+    n: usize,
+    u: f32,
+    start: usize,
 }
 
 /// A piecewise-constant density on `[0, 1)^2` over a `width x height` grid: the marginal
@@ -175,13 +219,79 @@ impl Distribution2D {
     /// Samples a point with density [`Self::pdf`]: `u.y` picks the row, `u.x` the column.
     /// Returns `(point in [0, 1)^2, pdf, [column, row])`.
     pub fn sample(&self, u: Vec2) -> (Vec2, f32, [u32; 2]) {
+        match self.sample_row(u.y).and_then(|r| self.start_column(r, u.x)) {
+            Some(start) => {
+                let (p, [col, row]) = self.finish_column(start);
+                (p, self.cell_pdf(col as usize, row as usize), [col, row])
+            }
+            None => (Vec2::ZERO, 0.0, [0, 0]),
+        }
+    }
+
+    /// [`Self::sample`]'s point and cell, without its density.
+    pub fn sample_cell(&self, u: Vec2) -> (Vec2, [u32; 2]) {
+        match self.sample_row(u.y).and_then(|r| self.start_column(r, u.x)) {
+            Some(start) => self.finish_column(start),
+            None => (Vec2::ZERO, [0, 0]),
+        }
+    }
+
+    /// [`Self::sample_cell`] of each of `us` into `out` (the shorter length of the two), the same
+    /// bits, in three passes over up to [`LOOKUP_BATCH`] samples at a time: every row, then
+    /// every row's guide entry, then every walk of the rows' CDFs. The reads of a pass do not
+    /// wait for one another, so the cache misses of a large table (a map's conditional CDFs
+    /// and guides are megabytes) overlap instead of following one by one.
+    pub fn sample_cells(&self, us: &[Vec2], out: &mut [(Vec2, [u32; 2])]) {
+        for (us, out) in us.chunks(LOOKUP_BATCH).zip(out.chunks_mut(LOOKUP_BATCH)) {
+            let mut rows = [None; LOOKUP_BATCH];
+            for (r, u) in rows.iter_mut().zip(us) {
+                *r = self.sample_row(u.y);
+            }
+            let mut starts = [None; LOOKUP_BATCH];
+            for ((s, r), u) in starts.iter_mut().zip(rows).zip(us) {
+                *s = r.and_then(|r| self.start_column(r, u.x));
+            }
+            for (o, s) in out.iter_mut().zip(starts).take(us.len()) {
+                *o = s.map_or((Vec2::ZERO, [0, 0]), |s| self.finish_column(s));
+            }
+        }
+    }
+
+    /// The row `u_y` picks and the sampled `y`.
+    #[inline(always)]
+    fn sample_row(&self, u_y: f32) -> Option<SampledRow> {
+        let (y, _, row) = self.marginal.sample_continuous(u_y)?;
+        Some(SampledRow { y, row })
+    }
+
+    /// Row `row`'s conditional CDF and guide table (empty outside the grid).
+    #[inline(always)]
+    fn row_tables(&self, row: usize) -> (&[f32], &[u32]) {
         let w = self.width as usize;
-        let Some((y, _, row)) = self.marginal.sample_continuous(u.y) else { return (Vec2::ZERO, 0.0, [0, 0]) };
-        let cdf = &self.conditional_cdf[row * (w + 1)..(row + 1) * (w + 1)];
+        let cdf = self.conditional_cdf.get(row * (w + 1)..(row + 1) * (w + 1)).unwrap_or_default();
         let guide = self.conditional_guide.get(row * w..(row + 1) * w).unwrap_or_default();
-        let Some((col, du)) = invert_cdf(cdf, guide, u.x) else { return (Vec2::ZERO, 0.0, [0, 0]) };
-        let x = ((col as f32 + du) / w as f32).min(ONE_MINUS_EPSILON);
-        (Vec2::new(x, y), self.cell_pdf(col, row), [col as u32, row as u32])
+        (cdf, guide)
+    }
+
+    /// Where inverting the row's CDF at `u_x` starts: the guide's segment (`invert_cdf`'s first
+    /// half); `None` for an empty row.
+    #[inline(always)]
+    fn start_column(&self, row: SampledRow, u_x: f32) -> Option<ColumnStart> {
+        let (cdf, guide) = self.row_tables(row.row);
+        let n = cdf.len().checked_sub(1).filter(|&n| n > 0)?;
+        let u = clamp_u(u_x);
+        Some(ColumnStart { row, n, u, start: guide_start(guide, n, u) })
+    }
+
+    /// The walk from the guide's segment to the column, and the point (`invert_cdf`'s second
+    /// half).
+    #[inline(always)]
+    fn finish_column(&self, s: ColumnStart) -> (Vec2, [u32; 2]) {
+        let (cdf, _) = self.row_tables(s.row.row);
+        let col = walk_to_segment(cdf, s.n, s.u, s.start);
+        let du = segment_offset(cdf, col, s.u);
+        let x = ((col as f32 + du) / self.width as f32).min(ONE_MINUS_EPSILON);
+        (Vec2::new(x, s.row.y), [col as u32, s.row.row as u32])
     }
 
     /// Density at `p` in `[0, 1)^2`: `func[cell] / integral` (0 outside).

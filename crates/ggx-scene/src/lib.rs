@@ -48,10 +48,10 @@ use std::path::Path;
 
 pub use camera::{Camera, CameraPose, MAX_RESOLUTION, RayGenerator};
 pub use camera_path::{CameraKey, CameraPath, DEFAULT_FPS, FrameError, Interpolation, MAX_FPS, MAX_FRAMES};
-pub use distribution::{Distribution1D, Distribution2D};
+pub use distribution::{Distribution1D, Distribution2D, LOOKUP_BATCH};
 pub use environment::{
-    EnvMap, Environment, LOOKUP_BATCH, MAX_MAP_SIZE, MAX_PROCEDURAL_WIDTH, direction_to_uv, load_image, sky, studio,
-    uniform_sphere, uv_to_direction,
+    EnvMap, Environment, MAX_MAP_SIZE, MAX_PROCEDURAL_WIDTH, direction_to_uv, load_image, sky, studio, uniform_sphere,
+    uv_to_direction,
 };
 pub use error::{ErrorKind, SceneError};
 pub use features::SceneFeatures;

@@ -440,3 +440,42 @@ fn batched_lookups_are_the_single_lookups() {
         assert_eq!(bits(&out), bits(&want[..5]));
     }
 }
+
+/// The batched light samples are the single ones, bit for bit: the map's (its distribution's
+/// cells by `sample_cells`, equal to `sample`'s) and the constant environment's, hostile `u`
+/// included, over several batches and a partial one; nothing is written past the samples.
+#[test]
+fn batched_light_samples_are_the_single_samples() {
+    let mut rng = Lcg(29);
+    let mut us: Vec<Vec2> = (0..40).map(|_| rng.vec2()).collect();
+    us.extend([Vec2::NAN, Vec2::ZERO, Vec2::ONE, Vec2::new(-1.0, 2.0), Vec2::splat(f32::INFINITY)]);
+    let bits = |v: &[(Vec3, f32, Vec3)]| {
+        v.iter()
+            .map(|(d, p, l)| (d.to_array().map(f32::to_bits), p.to_bits(), l.to_array().map(f32::to_bits)))
+            .collect::<Vec<_>>()
+    };
+    for map in [0.0, 40.0].into_iter().flat_map(both_maps) {
+        let mut cells = vec![(Vec2::ZERO, [0u32; 2]); us.len()];
+        map.distribution.sample_cells(&us, &mut cells);
+        for (&u, &cell) in us.iter().zip(&cells) {
+            let (p, _, c) = map.distribution.sample(u);
+            assert_eq!(cell, map.distribution.sample_cell(u));
+            assert_eq!((p.to_array().map(f32::to_bits), c), (cell.0.to_array().map(f32::to_bits), cell.1), "{u}");
+        }
+    }
+    let environments = [0.0, 40.0]
+        .into_iter()
+        .flat_map(both_maps)
+        .map(Environment::Map)
+        .chain([Environment::Constant(Vec3::new(0.5, 1.0, 2.0))]);
+    for env in environments {
+        let want: Vec<(Vec3, f32, Vec3)> = us.iter().map(|&u| env.sample_with_radiance(u)).collect();
+        for n in [0, 1, 16, 33, us.len()] {
+            let sentinel = (Vec3::splat(-1.0), -1.0, Vec3::splat(-1.0));
+            let mut out = vec![sentinel; us.len() + 2];
+            env.sample_with_radiance_batch(&us[..n], &mut out);
+            assert_eq!(bits(&out[..n]), bits(&want[..n]), "{n} samples");
+            assert!(out[n..].iter().all(|&o| o == sentinel), "wrote past {n} samples");
+        }
+    }
+}

@@ -7,13 +7,10 @@ use std::fmt;
 use glam::{Quat, Vec2, Vec3};
 
 use super::{direction_to_uv, uv_to_direction};
-use crate::distribution::Distribution2D;
+use crate::distribution::{Distribution2D, LOOKUP_BATCH};
 use crate::material::LUMINANCE_WEIGHTS;
 use crate::radiance::{MAX_RADIANCE, OVER_MAX_RADIANCE};
 use crate::sample_inputs::{SampleInputSink, pod_part, write_distribution_2d};
-
-/// Directions per pass of [`EnvMap::radiance_and_pdf_batch`]: a camera packet's paths.
-pub const LOOKUP_BATCH: usize = 16;
 
 /// An equirectangular environment map (see the module docs for the convention).
 ///
@@ -216,12 +213,6 @@ impl EnvMap {
         self.texel(col, row)
     }
 
-    /// Scaled radiance and solid-angle density of texel `(col, row)` seen at `sin theta`,
-    /// from one read of its record.
-    fn texel_and_pdf(&self, col: usize, row: usize, sin_theta: f32) -> (Vec3, f32) {
-        self.radiance_and_pdf_of(self.record(col, row), sin_theta)
-    }
-
     /// Samples a unit world direction from `u` in `[0, 1)^2`; returns it with its
     /// solid-angle pdf (0 only at the poles, where the sample should be discarded).
     pub fn sample(&self, u: Vec2) -> (Vec3, f32) {
@@ -234,10 +225,33 @@ impl EnvMap {
     /// (two inverse trigonometric calls and a second lookup). Along the direction,
     /// [`Self::radiance`] finds the same texel except within float rounding of its border.
     pub fn sample_with_radiance(&self, u: Vec2) -> (Vec3, f32, Vec3) {
-        let (uv, _, [col, row]) = self.distribution.sample(u);
-        let (col, row) = (col as usize, row as usize);
+        let (uv, [col, row]) = self.distribution.sample_cell(u);
+        self.light_sample_of(uv, self.record(col as usize, row as usize))
+    }
+
+    /// [`Self::sample_with_radiance`] of each of `us` into `out` (the shorter length of the
+    /// two), the same bits: the cells sampled in a batch ([`Distribution2D::sample_cells`]),
+    /// then every cell's record read, so that the cache misses of a batch overlap.
+    pub fn sample_with_radiance_batch(&self, us: &[Vec2], out: &mut [(Vec3, f32, Vec3)]) {
+        for (us, out) in us.chunks(LOOKUP_BATCH).zip(out.chunks_mut(LOOKUP_BATCH)) {
+            let mut cells = [(Vec2::ZERO, [0u32; 2]); LOOKUP_BATCH];
+            self.distribution.sample_cells(us, &mut cells);
+            let mut records = [[0.0f32; 4]; LOOKUP_BATCH];
+            for (r, &(_, [col, row])) in records.iter_mut().zip(&cells).take(us.len()) {
+                *r = self.record(col as usize, row as usize);
+            }
+            for ((o, &(uv, _)), &r) in out.iter_mut().zip(&cells).zip(&records).take(us.len()) {
+                *o = self.light_sample_of(uv, r);
+            }
+        }
+    }
+
+    /// The light sample at map point `uv` whose cell's record is `record`: the world
+    /// direction, its solid-angle density and the cell's radiance.
+    #[inline(always)]
+    fn light_sample_of(&self, uv: Vec2, record: [f32; 4]) -> (Vec3, f32, Vec3) {
         let d = uv_to_direction(uv);
-        let (radiance, pdf) = self.texel_and_pdf(col, row, (PI * uv.y).sin());
+        let (radiance, pdf) = self.radiance_and_pdf_of(record, (PI * uv.y).sin());
         (self.to_world * d, pdf, radiance)
     }
 

@@ -22,7 +22,7 @@ use crate::{IntegratorSettings, LightStrategy};
 pub use build::MAX_PROCEDURAL_WIDTH;
 pub(crate) use build::{build, check_with_triangles};
 pub use load::{MAX_MAP_SIZE, load_image};
-pub use map::{EnvMap, LOOKUP_BATCH};
+pub use map::EnvMap;
 pub use procedural::{sky, studio};
 
 /// Radiance arriving from infinitely far away.
@@ -78,6 +78,17 @@ impl Environment {
         match self {
             Self::Constant(l) => (uniform_sphere(u), 0.25 * FRAC_1_PI, *l),
             Self::Map(m) => m.sample_with_radiance(u),
+        }
+    }
+
+    /// [`Self::sample_with_radiance`] of each of `us` into `out` (the shorter length of the two),
+    /// the same bits; a map samples in batches ([`EnvMap::sample_with_radiance_batch`]).
+    pub fn sample_with_radiance_batch(&self, us: &[Vec2], out: &mut [(Vec3, f32, Vec3)]) {
+        match self {
+            Self::Constant(_) => {
+                out.iter_mut().zip(us).for_each(|(o, &u)| *o = self.sample_with_radiance(u));
+            }
+            Self::Map(m) => m.sample_with_radiance_batch(us, out),
         }
     }
 
