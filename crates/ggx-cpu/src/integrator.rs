@@ -27,7 +27,7 @@ use ggx_core::{Frame, SampleStream};
 use ggx_render::{
     Bsdf, anisotropy_direction, metal_rough_bsdf, normal_map_at, perturb_normal, tangent_at, tangent_frame,
 };
-use ggx_scene::{LightStrategy, NO_INDEX, PUNCTUAL_DIRECTIONAL};
+use ggx_scene::{Environment, LightStrategy, NO_INDEX, PUNCTUAL_DIRECTIONAL};
 use glam::{Vec2, Vec3};
 
 /// Rays traced by one path, for the rays/s figure.
@@ -299,7 +299,7 @@ pub fn draw_first_bounces<const AREA: bool, const ENV: bool>(
     true
 }
 
-/// A path that left the scene toward the environment: what its last term, `beta Le w`,
+/// A path that left the scene toward an environment map: what its last term, `beta Le w`,
 /// needs. The camera packet looks the environment up for all its escaped paths at once
 /// ([`add_escapes`]), so that the map reads' cache misses overlap.
 #[derive(Clone, Copy)]
@@ -404,9 +404,16 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
             };
         }
         let Some(hit) = hit else {
-            // The environment's term is added with the packet's other escapes (`add_escapes`).
-            let escape = has_env.then_some(Escape { dir, beta, prev_pdf });
-            return Traced { radiance, escape };
+            if has_env && let Some(env) = &scene.environment {
+                if let Environment::Map(_) = env {
+                    // A map's term is added with the packet's other escapes (`add_escapes`): its
+                    // texel reads are cache misses worth overlapping.
+                    return Traced { radiance, escape: Some(Escape { dir, beta, prev_pdf }) };
+                }
+                let (le, pdf_env) = env.radiance_and_pdf(dir);
+                radiance += beta * le * lights.emission_weight(prev_pdf, || p_env * pdf_env);
+            }
+            break;
         };
         let Some(tri) = scene.triangles.get(hit.triangle as usize) else { break };
         let ng = scene.geometric_normals.get(hit.triangle as usize).copied().unwrap_or(Vec3::ZERO);
