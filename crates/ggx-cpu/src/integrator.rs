@@ -17,6 +17,12 @@
 //!
 //! Every variant draws the same sample dimensions in the same order, so a specialized kernel
 //! returns bit-identical radiance to the generic one.
+//!
+//! A camera packet's paths share two steps whose table reads miss the caches on a large
+//! environment map: their first bounces are drawn ahead with the environment light samples
+//! in one batch ([`draw_first_bounces`]), and the map is looked up for all the escaped paths
+//! at once ([`add_escapes`]). Each batch's reads do not wait for one another, so their misses
+//! overlap; each path gets the bits it would compute alone.
 
 use crate::offset::offset_ray_origin;
 use crate::scene_data::SceneData;
