@@ -224,6 +224,14 @@ impl LightChoice {
         (pick_area, pick_punctual)
     }
 
+    /// Whether next-event estimation samples the environment with `select` (the branch
+    /// `trace` takes when neither an area nor a punctual light is picked).
+    #[inline(always)]
+    fn picks_environment(&self, select: f32) -> bool {
+        let (pick_area, pick_punctual) = self.pick(select);
+        self.use_nee && self.env_light && !pick_area && !pick_punctual
+    }
+
     /// Weight of emission found by a BSDF sample of MIS density `prev_pdf` (+inf: a delta lobe
     /// or the camera ray), `pdf_light` its density under next-event estimation: 1 without
     /// next-event estimation, the power heuristic with MIS, and next-event estimation alone
@@ -252,9 +260,10 @@ pub struct FirstBounce {
 }
 
 /// In a scene whose next-event estimation samples the environment, draws the first bounce
-/// of each of a packet's paths whose camera ray hit a surface that is not a delta BSDF (`hits`, `streams` past the pixel jitter, the pixel seeds of tile pixel
-/// `slots[k]` in `seeds[slots[k] % PACKET_RAYS]`), the same numbers each path would draw there itself; then samples the
-/// environment for all the paths that pick it, in one batch
+/// of each of a packet's paths whose camera ray hit a surface that is not a delta BSDF
+/// (`hits`; `streams` past the pixel jitter; tile pixel `slots[k]`'s seeds in
+/// `seeds[slots[k] % PACKET_RAYS]`): the same numbers each path would draw there itself. Then
+/// samples the environment for all the paths that pick it, in one batch
 /// ([`ggx_scene::Environment::sample_with_radiance_batch`]), so that the table reads' cache
 /// misses overlap. Fills `firsts` (`None` for a path not drawn ahead) and returns true, or
 /// returns false, leaving `firsts` as it is, when nothing is drawn ahead for this scene.
@@ -284,8 +293,7 @@ pub fn draw_first_bounces<const AREA: bool, const ENV: bool>(
             continue;
         }
         let samples = BounceSamples::draw(stream, &mut seeds[slot % PACKET_RAYS], draws, roulette);
-        let (pick_area, pick_punctual) = lights.pick(samples.select);
-        if lights.use_nee && lights.env_light && !pick_area && !pick_punctual {
+        if lights.picks_environment(samples.select) {
             (us[n], which[n]) = (samples.light, k);
             n += 1;
         }
@@ -316,6 +324,15 @@ pub struct Escape {
     beta: Vec3,
     /// MIS density of the BSDF sample that produced `dir`.
     prev_pdf: f32,
+}
+
+impl Escape {
+    /// The term `beta Le w` for the environment's radiance `le` and density `pdf_env` along
+    /// `dir` (`w`: [`LightChoice::emission_weight`]).
+    #[inline(always)]
+    fn term(&self, lights: &LightChoice, le: Vec3, pdf_env: f32) -> Vec3 {
+        self.beta * le * lights.emission_weight(self.prev_pdf, || lights.p_env * pdf_env)
+    }
 }
 
 /// A traced path: the radiance gathered so far and, if it escaped to the environment, the
@@ -352,8 +369,7 @@ pub fn add_escapes<const AREA: bool, const ENV: bool>(scene: &SceneData, paths: 
     for (&k, &(le, pdf_env)) in which.iter().zip(&found).take(n) {
         let path = &mut paths[k];
         if let Some(e) = path.escape.take() {
-            let w = lights.emission_weight(e.prev_pdf, || lights.p_env * pdf_env);
-            path.radiance += e.beta * le * w;
+            path.radiance += e.term(&lights, le, pdf_env);
         }
     }
 }
@@ -411,13 +427,14 @@ pub fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELE
         }
         let Some(hit) = hit else {
             if has_env && let Some(env) = &scene.environment {
+                let escape = Escape { dir, beta, prev_pdf };
                 if let Environment::Map(_) = env {
                     // A map's term is added with the packet's other escapes (`add_escapes`): its
                     // texel reads are cache misses worth overlapping.
-                    return Traced { radiance, escape: Some(Escape { dir, beta, prev_pdf }) };
+                    return Traced { radiance, escape: Some(escape) };
                 }
                 let (le, pdf_env) = env.radiance_and_pdf(dir);
-                radiance += beta * le * lights.emission_weight(prev_pdf, || p_env * pdf_env);
+                radiance += escape.term(&lights, le, pdf_env);
             }
             break;
         };

@@ -204,7 +204,13 @@ impl EnvMap {
         if col >= self.width as usize {
             return [0.0; 4];
         }
-        self.texels.get(row * self.width as usize + col).copied().unwrap_or_default()
+        self.record_at(row * self.width as usize + col)
+    }
+
+    /// The stored record at row-major `index` (zeros past the map).
+    #[inline(always)]
+    fn record_at(&self, index: usize) -> [f32; 4] {
+        self.texels.get(index).copied().unwrap_or_default()
     }
 
     /// Radiance seen looking towards unit world `direction` (nearest texel).
@@ -264,7 +270,7 @@ impl EnvMap {
     /// finding the texel once: what a path that escapes to the environment needs.
     pub fn radiance_and_pdf(&self, direction: Vec3) -> (Vec3, f32) {
         let (index, sin_theta) = self.locate(direction);
-        self.radiance_and_pdf_of(self.texels.get(index).copied().unwrap_or_default(), sin_theta)
+        self.radiance_and_pdf_of(self.record_at(index), sin_theta)
     }
 
     /// [`Self::radiance_and_pdf`] of each of `directions` into `out` (the shorter length of
@@ -280,7 +286,7 @@ impl EnvMap {
             }
             let mut records = [[0.0f32; 4]; LOOKUP_BATCH];
             for (r, &(index, _)) in records.iter_mut().zip(&located).take(directions.len()) {
-                *r = self.texels.get(index).copied().unwrap_or_default();
+                *r = self.record_at(index);
             }
             for ((o, &r), &(_, sin_theta)) in out.iter_mut().zip(&records).zip(&located).take(directions.len()) {
                 *o = self.radiance_and_pdf_of(r, sin_theta);

@@ -113,7 +113,7 @@ impl Environment {
     /// two), the same bits; a map reads its texels in batches ([`EnvMap::radiance_and_pdf_batch`]).
     pub fn radiance_and_pdf_batch(&self, directions: &[Vec3], out: &mut [(Vec3, f32)]) {
         match self {
-            Self::Constant(l) => out.iter_mut().take(directions.len()).for_each(|o| *o = (*l, 0.25 * FRAC_1_PI)),
+            Self::Constant(_) => out.iter_mut().zip(directions).for_each(|(o, &d)| *o = self.radiance_and_pdf(d)),
             Self::Map(m) => m.radiance_and_pdf_batch(directions, out),
         }
     }
