@@ -409,6 +409,16 @@ fn exr_and_hdr_files_load_texel_exact() {
     }
 }
 
+/// The random maps (unrotated and rotated, full and MIS-compensated) and a constant
+/// environment, for the batched lookups' tests.
+fn batch_test_environments() -> impl Iterator<Item = Environment> {
+    [0.0, 40.0]
+        .into_iter()
+        .flat_map(both_maps)
+        .map(Environment::Map)
+        .chain([Environment::Constant(Vec3::new(0.5, 1.0, 2.0))])
+}
+
 /// The batched escaped-path lookup is the single one, bit for bit, for any number of
 /// directions (more than one batch, a partial batch, none), hostile directions included, and
 /// fills only as many results as it has directions or room for.
@@ -417,12 +427,7 @@ fn batched_lookups_are_the_single_lookups() {
     let mut rng = Lcg(23);
     let mut directions: Vec<Vec3> = (0..37).map(|_| ggx_scene::uniform_sphere(rng.vec2())).collect();
     directions.extend([Vec3::ZERO, Vec3::NAN, Vec3::INFINITY, Vec3::NEG_Y, Vec3::Y, Vec3::new(3.0, -4.0, 0.5)]);
-    let environments = [0.0, 40.0]
-        .into_iter()
-        .flat_map(both_maps)
-        .map(Environment::Map)
-        .chain([Environment::Constant(Vec3::new(0.5, 1.0, 2.0))]);
-    for env in environments {
+    for env in batch_test_environments() {
         let want: Vec<(Vec3, f32)> = directions.iter().map(|&d| env.radiance_and_pdf(d)).collect();
         let bits = |v: &[(Vec3, f32)]| {
             v.iter().map(|(l, p)| (l.to_array().map(f32::to_bits), p.to_bits())).collect::<Vec<_>>()
@@ -463,12 +468,7 @@ fn batched_light_samples_are_the_single_samples() {
             assert_eq!((p.to_array().map(f32::to_bits), c), (cell.0.to_array().map(f32::to_bits), cell.1), "{u}");
         }
     }
-    let environments = [0.0, 40.0]
-        .into_iter()
-        .flat_map(both_maps)
-        .map(Environment::Map)
-        .chain([Environment::Constant(Vec3::new(0.5, 1.0, 2.0))]);
-    for env in environments {
+    for env in batch_test_environments() {
         let want: Vec<(Vec3, f32, Vec3)> = us.iter().map(|&u| env.sample_with_radiance(u)).collect();
         for n in [0, 1, 16, 33, us.len()] {
             let sentinel = (Vec3::splat(-1.0), -1.0, Vec3::splat(-1.0));
