@@ -47,6 +47,8 @@ pub fn draw_first_bounces<const AREA: bool, const ENV: bool>(
     for (k, (((first, hit), stream), &slot)) in firsts.iter_mut().zip(hits).zip(streams).zip(slots).enumerate() {
         *first = None;
         let Some(hit) = hit else { continue };
+        // Judged by the material's untextured BSDF: a textured path that turns out to be a
+        // mirror only leaves the numbers drawn for it unused (its stream is its own).
         let material = scene.triangles.get(hit.triangle as usize).map(|t| t.material as usize);
         if material.and_then(|m| scene.bsdfs.get(m)).is_none_or(|b| b.is_delta()) {
             continue;
