@@ -20,9 +20,12 @@
 //!   missing; the Kubernetes manifests checked against vendored schemas (see [`farm`]).
 //! * `peer [--quick] [...]`: ggx beside Mitsuba 3 on the same scenes in one run (installs
 //!   LLVM 19 and a venv with Mitsuba where missing; not part of `ci`; see [`peer`]).
+//! * `ab --a BIN --b BIN [...]`: which of two ggx binaries renders faster, both run at once on
+//!   CPUs of their own so that the shared machine's load moves both alike (see [`ab`]).
 //! * `tables [--check]`: regenerates ggx-core's energy-compensation tables (see [`tables`] and
 //!   [`tables_dielectric`]).
 
+mod ab;
 mod bench;
 mod diff;
 mod farm;
@@ -68,6 +71,11 @@ const USAGE: &str = "usage: cargo xtask <command>
                                  counts against their own cached references; samples/s, relMSE at equal time,
                                  efficiency, converged agreement, GGX micro-benchmark; summary.md, CSV and
                                  plots under target/xtask/peer/ (not part of ci: large download; see --help)
+  ab --a BIN --b BIN [--runs N] [--spp N] [--width W] [SCENES...]
+                                 which of two ggx binaries renders faster: both render each scene at the
+                                 same time, one thread each on CPUs 0 and 1 (swapped every run); the median
+                                 of the per-run time ratios, its quartiles, and whether the pixels are
+                                 identical; report.md under target/xtask/ab/
   tables [--check]               regenerate ggx-core's energy-compensation tables from ggx-core's own code in f64:
                                  the conductor's E(mu, alpha), E_avg(alpha) (crates/ggx-core/src/energy_tables.rs),
                                  the dielectric's E_T(mu, alpha, eta') and the plastic coat's E_R, E_R_avg
@@ -84,6 +92,7 @@ fn main() -> ExitCode {
     let result = match args.first().map(String::as_str) {
         Some("ci") => ci(),
         Some("diff") => diff::run(&args[1..]),
+        Some("ab") => ab::run(&args[1..]),
         Some("bench") => bench::run(&args[1..]),
         Some("fuzz") => fuzz::run(&args[1..]),
         Some("farm") => farm::run(&args[1..]),

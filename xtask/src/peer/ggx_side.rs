@@ -76,8 +76,8 @@ pub fn export(bin: &Path, scene: &Path, xml: &Path, width: Option<u32>, env_upsa
     ggx(bin, &args)
 }
 
-/// Renders `job` and reads its statistics; fails unless every requested sample was rendered.
-pub fn render(bin: &Path, job: &RenderJob) -> Result<Stats, String> {
+/// The arguments of `ggx render` for `job`.
+pub fn render_args(job: &RenderJob) -> Vec<String> {
     let mut args = vec![
         "render".to_owned(),
         job.scene.display().to_string(),
@@ -95,13 +95,23 @@ pub fn render(bin: &Path, job: &RenderJob) -> Result<Stats, String> {
     if let Some(w) = job.width {
         args.extend(["--width".into(), w.to_string()]);
     }
-    ggx(bin, &args)?;
+    args
+}
+
+/// The statistics `job`'s render wrote; fails unless every requested sample was rendered.
+pub fn read_stats(job: &RenderJob) -> Result<Stats, String> {
     let text = std::fs::read_to_string(job.stats).map_err(|e| format!("{}: {e}", job.stats.display()))?;
     let stats: Stats = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", job.stats.display()))?;
     if stats.spp != job.spp {
         return Err(format!("{}: rendered {} of {} spp", job.scene.display(), stats.spp, job.spp));
     }
     Ok(stats)
+}
+
+/// Renders `job` and reads its statistics; fails unless every requested sample was rendered.
+pub fn render(bin: &Path, job: &RenderJob) -> Result<Stats, String> {
+    ggx(bin, &render_args(job))?;
+    read_stats(job)
 }
 
 /// The scene text with `[integrator] sampler = "independent"` (replacing a `sampler` line of

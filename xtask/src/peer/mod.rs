@@ -15,7 +15,7 @@
 //! Not part of `cargo xtask ci`: the Mitsuba wheel is large and the full run takes long.
 
 mod driver;
-mod ggx_side;
+pub(crate) mod ggx_side;
 mod goals;
 mod images;
 mod metrics;
