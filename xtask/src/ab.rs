@@ -124,6 +124,12 @@ fn can_pair() -> bool {
     two && Command::new("taskset").args(["-c", "0", "true"]).stdout(Stdio::null()).status().is_ok_and(|s| s.success())
 }
 
+/// Where a render's standard error goes: a file, not a pipe, so that a render that writes much
+/// never waits on the other's reader.
+fn log_path(job: &RenderJob) -> PathBuf {
+    job.stats.with_extension("log")
+}
+
 /// Starts `bin`'s render of `job`, pinned to `cpu` when given.
 fn start(bin: &Path, job: &RenderJob, cpu: Option<usize>) -> Result<std::process::Child, String> {
     let mut cmd = match cpu {
@@ -134,21 +140,17 @@ fn start(bin: &Path, job: &RenderJob, cpu: Option<usize>) -> Result<std::process
         }
         None => Command::new(bin),
     };
-    cmd.args(render_args(job)).stdout(Stdio::null()).stderr(Stdio::piped());
+    let log = std::fs::File::create(log_path(job)).map_err(|e| format!("{}: {e}", log_path(job).display()))?;
+    cmd.args(render_args(job)).stdout(Stdio::null()).stderr(log);
     cmd.spawn().map_err(|e| format!("{}: {e}", bin.display()))
 }
 
 /// Waits for a render started by [`start`] and reads its render time.
-fn finish(child: std::process::Child, bin: &Path, job: &RenderJob) -> Result<f64, String> {
-    let out = child.wait_with_output().map_err(|e| format!("{}: {e}", bin.display()))?;
-    if !out.status.success() {
-        return Err(format!(
-            "{} failed on {} ({}): {}",
-            bin.display(),
-            job.scene.display(),
-            out.status,
-            String::from_utf8_lossy(&out.stderr).trim()
-        ));
+fn finish(mut child: std::process::Child, bin: &Path, job: &RenderJob) -> Result<f64, String> {
+    let status = child.wait().map_err(|e| format!("{}: {e}", bin.display()))?;
+    if !status.success() {
+        let log = std::fs::read_to_string(log_path(job)).unwrap_or_default();
+        return Err(format!("{} failed on {} ({status}): {}", bin.display(), job.scene.display(), log.trim()));
     }
     Ok(read_stats(job)?.seconds)
 }
