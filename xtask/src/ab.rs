@@ -7,10 +7,10 @@
 //! the per-run ratios of `--stats`' render time (scene load and BVH build excluded), with its
 //! quartiles, and whether the two images' pixel data are identical bit for bit. Run a binary
 //! against a copy of itself to see the day's noise: on the 2-vCPU Xeon of 2026-12-05, 40 runs
-//! gave 0.99x-1.04x on the peer scenes (quartiles within 0.94-1.12), where the medians of five
-//! runs one after the other spread from 0.94x to 1.16x. Without two CPUs or `taskset` the two
-//! run one after the other, in alternating order. A table goes to stdout and to
-//! `target/xtask/ab/report.md`.
+//! gave 0.99x-1.04x on the peer three-spheres and bunny (quartiles within 0.94-1.12), where the
+//! medians of five to nine runs one after the other spread from 0.96x to 1.16x. Without two
+//! CPUs or `taskset` the two run one after the other, in alternating order. A table goes to
+//! stdout and to `target/xtask/ab/report.md`.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
