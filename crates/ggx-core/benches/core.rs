@@ -72,12 +72,12 @@ fn scalar(c: &mut Criterion) {
 }
 
 /// `batch::sample_vndf`'s signature.
-type SampleFn = fn(&TrowbridgeReitz, Vec3Slices, &[f32], &[f32], Vec3SlicesMut, &mut [f32]) -> usize;
+type SampleFn = fn(&TrowbridgeReitz, Vec3Slices, &[f32], &[f32], Sampling, Vec3SlicesMut, &mut [f32]) -> usize;
 /// `batch::eval`'s signature.
 type EvalFn = fn(&GgxConductor, Vec3Slices, Vec3Slices, Vec3SlicesMut);
 /// `batch::sample`'s signature.
 type SampleWeightedFn =
-    fn(&GgxConductor, Vec3Slices, &[f32], &[f32], Vec3SlicesMut, Vec3SlicesMut, &mut [f32]) -> usize;
+    fn(&GgxConductor, Vec3Slices, &[f32], &[f32], Sampling, Vec3SlicesMut, Vec3SlicesMut, &mut [f32]) -> usize;
 /// `batch::pdf`'s signature.
 type PdfFn = fn(&GgxConductor, Vec3Slices, Vec3Slices, &mut [f32]);
 /// `batch::d`'s signature.
@@ -98,10 +98,15 @@ fn batched(c: &mut Criterion) {
     let (mut wx, mut wy, mut wz) = (vec![0.0; N], vec![0.0; N], vec![0.0; N]);
     let mut g = c.benchmark_group("batch");
     g.throughput(Throughput::Elements(N as u64));
-    // The dispatched loops (the CPU's widest ISA) beside the same loops at the baseline ISA.
-    let samplers =
-        [("sample_vndf", batch::sample_vndf as SampleFn), ("sample_vndf_portable", batch::sample_vndf_portable)];
-    for (name, f) in samplers {
+    // The dispatched loops (the CPU's widest ISA) beside the same loops at the baseline ISA;
+    // the spherical caps, and Heitz's sampler (`_heitz`).
+    let caps = Sampling::SphericalCaps;
+    let samplers = [
+        ("sample_vndf", batch::sample_vndf as SampleFn, caps),
+        ("sample_vndf_portable", batch::sample_vndf_portable, caps),
+        ("sample_vndf_heitz", batch::sample_vndf, Sampling::Vndf),
+    ];
+    for (name, f, sampling) in samplers {
         g.bench_function(name, |b| {
             b.iter(|| {
                 f(
@@ -109,6 +114,7 @@ fn batched(c: &mut Criterion) {
                     Vec3Slices { x: black_box(&ox), y: &oy, z: &oz },
                     &u0,
                     &u1,
+                    sampling,
                     Vec3SlicesMut { x: &mut rx, y: &mut ry, z: &mut rz },
                     &mut pdf,
                 )
@@ -127,7 +133,12 @@ fn batched(c: &mut Criterion) {
             })
         });
     }
-    for (name, f) in [("sample", batch::sample as SampleWeightedFn), ("sample_portable", batch::sample_portable)] {
+    let samplers = [
+        ("sample", batch::sample as SampleWeightedFn, caps),
+        ("sample_portable", batch::sample_portable, caps),
+        ("sample_heitz", batch::sample, Sampling::Vndf),
+    ];
+    for (name, f, sampling) in samplers {
         g.bench_function(name, |b| {
             b.iter(|| {
                 f(
@@ -135,6 +146,7 @@ fn batched(c: &mut Criterion) {
                     Vec3Slices { x: black_box(&ox), y: &oy, z: &oz },
                     &u0,
                     &u1,
+                    sampling,
                     Vec3SlicesMut { x: &mut rx, y: &mut ry, z: &mut rz },
                     Vec3SlicesMut { x: &mut wx, y: &mut wy, z: &mut wz },
                     &mut pdf,

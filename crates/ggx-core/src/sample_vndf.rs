@@ -11,6 +11,14 @@ impl TrowbridgeReitz {
     /// ([`Self::d_visible`]). Returns zero when `wo.z <= 0`.
     #[inline]
     pub fn sample_wm_vndf(&self, wo: Vec3, u: Vec2) -> Vec3 {
-        samplers::sample_wm_vndf(self.widths(), wo.into(), u.x, u.y).into()
+        self.sample_wm_vndf_with::<false>(wo, u)
+    }
+
+    /// [`Self::sample_wm_vndf`], the same bits, with the sine and cosine's floors taken as
+    /// `ROUND` says; branch-free (both sides computed, then selected), so that `crate::batch`
+    /// vectorizes it.
+    #[inline(always)]
+    pub(crate) fn sample_wm_vndf_with<const ROUND: bool>(&self, wo: Vec3, u: Vec2) -> Vec3 {
+        samplers::sample_wm_vndf_with::<f32, ROUND>(self.widths(), wo.into(), u.x, u.y).into()
     }
 }

@@ -1177,9 +1177,10 @@ proptest! {
 
     /// Returns the number of valid lanes among `min` of the lengths; valid lanes have a finite
     /// `wi` above the horizon (unit for a unit `wo`) and a finite positive pdf, the others zero;
-    /// as `constructed`.
+    /// as `constructed`; Heitz's sampler or the spherical caps.
     #[test]
-    fn batch_sample_vndf(t in raw_dist(), wo in dir_lanes(), u0 in lanes(), u1 in lanes(), drop in 0usize..2, extra in 0usize..3) {
+    fn batch_sample_vndf(t in raw_dist(), wo in dir_lanes(), u0 in lanes(), u1 in lanes(), drop in 0usize..2, extra in 0usize..3, heitz in any::<bool>()) {
+        let sampling = if heitz { Sampling::Vndf } else { Sampling::SphericalCaps };
         let [ox, oy, oz] = split(&wo, drop);
         let run = |t: &TrowbridgeReitz| {
             let n_out = wo.len() + extra;
@@ -1189,6 +1190,7 @@ proptest! {
                 Vec3Slices { x: &ox, y: &oy, z: &oz },
                 &u0,
                 &u1,
+                sampling,
                 Vec3SlicesMut { x: &mut x, y: &mut y, z: &mut z },
                 &mut p,
             );
@@ -1249,11 +1251,13 @@ proptest! {
 proptest! {
     #![proptest_config(config())]
 
-    /// Lane by lane `GgxConductor::sample(.., SphericalCaps)`'s `wi`, weight and pdf (zeros
-    /// where it returns `None` or a delta sample) for `min` of the lengths, all finite; the
-    /// count of valid lanes; later lanes untouched, whichever slice is the shortest.
+    /// Lane by lane `GgxConductor::sample(.., sampling)`'s `wi`, weight and pdf (zeros where it
+    /// returns `None` or a delta sample) for `min` of the lengths, all finite, Heitz's sampler
+    /// or the spherical caps; the count of valid lanes; later lanes untouched, whichever slice
+    /// is the shortest.
     #[test]
-    fn batch_sample(b in raw_brdf(), wo in dir_lanes(), u0 in lanes(), u1 in lanes(), drop in 0usize..2, extra in 0usize..3, short in 0usize..3) {
+    fn batch_sample(b in raw_brdf(), wo in dir_lanes(), u0 in lanes(), u1 in lanes(), drop in 0usize..2, extra in 0usize..3, short in 0usize..3, heitz in any::<bool>()) {
+        let sampling = if heitz { Sampling::Vndf } else { Sampling::SphericalCaps };
         let [ox, oy, oz] = split(&wo, drop);
         let n_out = wo.len() + extra;
         let mut out = [(); 7].map(|_| vec![9.0f32; n_out]);
@@ -1265,6 +1269,7 @@ proptest! {
             Vec3Slices { x: &ox, y: &oy, z: &oz },
             &u0,
             &u1,
+            sampling,
             Vec3SlicesMut { x, y, z },
             Vec3SlicesMut { x: wx, y: wy, z: wz },
             p,
@@ -1272,11 +1277,11 @@ proptest! {
         let n = [ox.len(), oy.len(), oz.len(), u0.len(), u1.len(), wz.len()].into_iter().min().unwrap();
         let mut scalar_valid = 0;
         for i in 0..n {
-            let s = b.sample(Vec3::new(ox[i], oy[i], oz[i]), Vec2::new(u0[i], u1[i]), Sampling::SphericalCaps).filter(|s| !s.is_delta);
+            let s = b.sample(Vec3::new(ox[i], oy[i], oz[i]), Vec2::new(u0[i], u1[i]), sampling).filter(|s| !s.is_delta);
             scalar_valid += s.is_some() as usize;
             let (wi, w, pdf) = s.map_or((Vec3::ZERO, Vec3::ZERO, 0.0), |s| (s.wi, s.weight, s.pdf));
             let (got_wi, got_w) = (Vec3::new(x[i], y[i], z[i]), Vec3::new(wx[i], wy[i], wz[i]));
-            prop_assert!(same3(got_wi, wi) && same3(got_w, w) && same(p[i], pdf), "{b:?} lane {i}: {got_wi:?} {got_w:?} {} vs {wi:?} {w:?} {pdf}", p[i]);
+            prop_assert!(same3(got_wi, wi) && same3(got_w, w) && same(p[i], pdf), "{b:?} {sampling:?} lane {i}: {got_wi:?} {got_w:?} {} vs {wi:?} {w:?} {pdf}", p[i]);
             prop_assert!(got_wi.is_finite() && ok3(got_w) && ok(p[i]), "{b:?} lane {i}");
         }
         prop_assert_eq!(valid, scalar_valid);

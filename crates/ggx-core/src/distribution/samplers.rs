@@ -56,6 +56,18 @@ pub fn pdf_wm_ndf<L: Lanes>(a: Widths<L>, wm: Vec3Lanes<L>) -> L {
 /// (from `1 - vh.z = |vh.xy|^2 / (1 + vh.z)`, `vh` unit).
 #[inline(always)]
 pub fn sample_wm_vndf<L: Lanes>(a: Widths<L>, wo: Vec3Lanes<L>, u0: L, u1: L) -> Vec3Lanes<L> {
+    sample_wm_vndf_with::<L, false>(a, wo, u0, u1)
+}
+
+/// [`sample_wm_vndf`], with the sine and cosine's floors taken as `ROUND` says (the same bits
+/// either way): `crate::batch`'s dispatched loops take the rounding instruction.
+#[inline(always)]
+pub(crate) fn sample_wm_vndf_with<L: Lanes, const ROUND: bool>(
+    a: Widths<L>,
+    wo: Vec3Lanes<L>,
+    u0: L,
+    u1: L,
+) -> Vec3Lanes<L> {
     let (zero, one, half) = (L::splat(0.0), L::splat(1.0), L::splat(0.5));
     let (u0, u1) = (u0.sanitize_u(), u1.sanitize_u());
     let vh = stretch(a, wo);
@@ -70,7 +82,7 @@ pub fn sample_wm_vndf<L: Lanes>(a: Widths<L>, wo: Vec3Lanes<L>, u0: L, u1: L) ->
     // Uniform point (p1, r sin phi) on the unit disk (polar map), warped to the projected
     // hemisphere: p2 = (1 - s) q + s r sin phi, s = (1 + vh.z) / 2.
     let r = u0.safe_sqrt();
-    let (sin_phi, cos_phi) = u1.sincos_2pi_with::<false>();
+    let (sin_phi, cos_phi) = u1.sincos_2pi_with::<ROUND>();
     let (p1, rs) = (r * cos_phi, r * sin_phi);
     let rim = one - u0; // exact: 1 - r^2
     let q = (rim + rs * rs).safe_sqrt();
