@@ -1,9 +1,9 @@
 //! Slice (structure-of-arrays) versions of the hot functions. Each lane runs the scalar
 //! path's own functions ([`GgxConductor::eval`]'s and [`GgxConductor::pdf`]'s bodies,
 //! [`TrowbridgeReitz::d`], Heitz's and the spherical-cap visible-normal samplers and the
-//! reflection step of [`GgxConductor::sample`]), written branch-free (selects only, no calls into libm: the
-//! polynomial [`crate::math::sincos_2pi`]) so that LLVM auto-vectorizes the loops; slices are
-//! re-sliced to one common length so bounds checks vanish. One source, so every lane is the
+//! reflection step of [`GgxConductor::sample`]), written branch-free (selects only, no calls
+//! into libm: the polynomial [`crate::math::sincos_2pi`]) so that LLVM auto-vectorizes the
+//! loops; slices are re-sliced to one common length so bounds checks vanish. One source, so every lane is the
 //! scalar result bit for bit (the tests check it over hostile input).
 //!
 //! With the `std` feature, [`d`], [`sample_vndf`], [`sample`], [`eval`] and [`pdf`] pick the
