@@ -79,7 +79,7 @@ impl GgxConductorMs {
     }
 
     /// `f(wo, wi) |wi.z| = (f_ss + f_ms) |wi.z|`: [`GgxConductor::eval`] plus [`Self::eval_ms`].
-    #[inline]
+    #[inline(always)]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         self.conductor.eval(wo, wi) + self.eval_ms(wo, wi)
     }
@@ -113,7 +113,7 @@ impl GgxConductorMs {
 
     /// [`Self::eval`] and [`Self::pdf`] in one call, equal to both bit for bit (the conductor's
     /// [`GgxConductor::eval_pdf`] shares its half-vector terms).
-    #[inline]
+    #[inline(always)]
     pub fn eval_pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling) -> (Vec3, f32) {
         let (f_ss, pdf_ss) = self.conductor.eval_pdf(wo, wi, sampling);
         (f_ss + self.eval_ms(wo, wi), self.mix_pdf(wo, wi, pdf_ss))
@@ -136,7 +136,7 @@ impl GgxConductorMs {
     /// returned `pdf` is [`Self::pdf`] and `weight = eval / pdf` of the returned pair (one-sample
     /// MIS over both lobes). `None` where the conductor's sampler refuses, and for degenerate
     /// input. Without compensation (or for a mirror) exactly [`GgxConductor::sample`].
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, wo: Vec3, u: Vec2, u_lobe: f32, sampling: Sampling) -> Option<BsdfSample> {
         if !self.is_compensated() {
             return self.conductor.sample(wo, u, sampling);

@@ -97,6 +97,7 @@ impl CameraPacket {
 
     /// Finds the held rays' closest hits together, traces each path on from its hit into
     /// its pixel's sum in `out` (its seeds in `seeds[slot % PACKET_RAYS]`), and empties the packet.
+    #[inline(always)]
     fn trace<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELECTRIC: bool, const TEX: bool>(
         &mut self,
         scene: &SceneData,
@@ -132,7 +133,9 @@ impl CameraPacket {
     }
 }
 
-/// Renders one tile's pixels from the samples they hold to `work.to`.
+/// Renders one tile's pixels from the samples they hold to `work.to`, with the kernel compiled
+/// for x86-64-v3 (AVX2, BMI, VEX encoding) when the CPU has it, else for the build's baseline
+/// ([`TileKernel`]): the same bits either way.
 fn render_tile<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELECTRIC: bool, const TEX: bool>(
     scene: &SceneData,
     sampling: Sampling,
@@ -140,37 +143,82 @@ fn render_tile<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIE
     cancel: &AtomicBool,
     rays: &AtomicU64,
 ) -> Option<Vec<SampleSum>> {
-    if cancel.load(Ordering::Relaxed) {
-        return None;
+    let kernel = TileKernel::<AREA, ENV, PLASTIC, DIELECTRIC, TEX> { scene, sampling, work, cancel, rays };
+    #[cfg(target_arch = "x86_64")]
+    if let Some(v3) = pulp::x86::V3::try_new() {
+        return pulp::Simd::vectorize(v3, kernel);
     }
-    let [x0, y0, x1, y1] = work.rect;
-    let width = scene.camera.resolution[0];
-    let mut out = vec![SampleSum::default(); ((x1 - x0) * (y1 - y0)) as usize];
-    let mut counters = Counters::default();
-    // Each pixel's samples share its scramble seeds, hashed once: the seeds of the pixels a
-    // packet spans, in a ring (a pixel whose slot was taken gets hashed seeds: the same values).
-    let mut seeds: [PixelSeeds; PACKET_RAYS] = core::array::from_fn(|_| PixelSeeds::new(0));
-    let mut packet = CameraPacket::default();
-    let pixels = (y0..y1).flat_map(|y| (x0..x1).map(move |x| (x, y)));
-    for (slot, (x, y)) in pixels.enumerate() {
-        let pixel = y * width + x;
-        let held = work.film.pixels().get(pixel as usize).map_or(0, |p| p.samples);
-        let (first, ring) = (work.start.saturating_add(held), slot % PACKET_RAYS);
-        if first < work.to {
-            seeds[ring] = PixelSeeds::new(SampleStream::new(sampling.kind, sampling.seed, pixel, 0).seed);
+    kernel.run()
+}
+
+/// One tile's arguments, for `pulp`'s dispatch: [`TileKernel::run`] and everything it inlines
+/// (the integrator, the camera packets, the BSDFs' sampling and evaluation, the Sobol' draws)
+/// compiled into a function with x86-64-v3's target features, or for the baseline.
+///
+/// Bit-identical by construction: Rust never contracts a multiply and an add into a fused
+/// multiply-add, target features or not, and crates that use FMA instructions do so behind
+/// `cfg(target_feature = "fma")`, which a function's target features do not turn on (a whole
+/// build for x86-64-v3 does: glam's `mul_add` then changes the bits; tested in
+/// `v3_and_baseline_kernels_agree`). Measured on the Zen 5 AMD EPYC: SSE2 code spends its time
+/// on register copies that VEX's three-operand forms do not need.
+struct TileKernel<'a, const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELECTRIC: bool, const TEX: bool> {
+    scene: &'a SceneData,
+    sampling: Sampling,
+    work: TileWork<'a>,
+    cancel: &'a AtomicBool,
+    rays: &'a AtomicU64,
+}
+
+impl<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELECTRIC: bool, const TEX: bool> pulp::WithSimd
+    for TileKernel<'_, AREA, ENV, PLASTIC, DIELECTRIC, TEX>
+{
+    type Output = Option<Vec<SampleSum>>;
+
+    #[inline(always)]
+    fn with_simd<S: pulp::Simd>(self, _simd: S) -> Self::Output {
+        self.run()
+    }
+}
+
+impl<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELECTRIC: bool, const TEX: bool>
+    TileKernel<'_, AREA, ENV, PLASTIC, DIELECTRIC, TEX>
+{
+    /// The tile's render, compiled into its caller.
+    #[inline(always)]
+    fn run(self) -> Option<Vec<SampleSum>> {
+        let TileKernel { scene, sampling, work, cancel, rays } = self;
+        if cancel.load(Ordering::Relaxed) {
+            return None;
         }
-        for s in first..work.to {
-            let mut stream = SampleStream::new(sampling.kind, sampling.seed, pixel, s);
-            let jitter = stream.next_2d_with(&mut seeds[ring]);
-            let ray = scene.ray_generator.generate_ray(Vec2::new(x as f32, y as f32) + jitter);
-            if packet.push(slot, stream, ray) {
-                packet.trace::<AREA, ENV, PLASTIC, DIELECTRIC, TEX>(scene, &mut seeds, &mut out, &mut counters);
+        let [x0, y0, x1, y1] = work.rect;
+        let width = scene.camera.resolution[0];
+        let mut out = vec![SampleSum::default(); ((x1 - x0) * (y1 - y0)) as usize];
+        let mut counters = Counters::default();
+        // Each pixel's samples share its scramble seeds, hashed once: the seeds of the pixels a
+        // packet spans, in a ring (a pixel whose slot was taken gets hashed seeds: the same values).
+        let mut seeds: [PixelSeeds; PACKET_RAYS] = core::array::from_fn(|_| PixelSeeds::new(0));
+        let mut packet = CameraPacket::default();
+        let pixels = (y0..y1).flat_map(|y| (x0..x1).map(move |x| (x, y)));
+        for (slot, (x, y)) in pixels.enumerate() {
+            let pixel = y * width + x;
+            let held = work.film.pixels().get(pixel as usize).map_or(0, |p| p.samples);
+            let (first, ring) = (work.start.saturating_add(held), slot % PACKET_RAYS);
+            if first < work.to {
+                seeds[ring] = PixelSeeds::new(SampleStream::new(sampling.kind, sampling.seed, pixel, 0).seed);
+            }
+            for s in first..work.to {
+                let mut stream = SampleStream::new(sampling.kind, sampling.seed, pixel, s);
+                let jitter = stream.next_2d_with(&mut seeds[ring]);
+                let ray = scene.ray_generator.generate_ray(Vec2::new(x as f32, y as f32) + jitter);
+                if packet.push(slot, stream, ray) {
+                    packet.trace::<AREA, ENV, PLASTIC, DIELECTRIC, TEX>(scene, &mut seeds, &mut out, &mut counters);
+                }
             }
         }
+        packet.trace::<AREA, ENV, PLASTIC, DIELECTRIC, TEX>(scene, &mut seeds, &mut out, &mut counters);
+        rays.fetch_add(counters.rays + counters.shadow_rays, Ordering::Relaxed);
+        Some(out)
     }
-    packet.trace::<AREA, ENV, PLASTIC, DIELECTRIC, TEX>(scene, &mut seeds, &mut out, &mut counters);
-    rays.fetch_add(counters.rays + counters.shadow_rays, Ordering::Relaxed);
-    Some(out)
 }
 
 /// Instantiates `render_tile` for a variant: `$v` is the variant, `$($bits),*` every
@@ -317,4 +365,59 @@ pub fn lowest_held(film: &Film, [x0, y0, x1, y1]: Window) -> u32 {
         .map(|p| p.samples)
         .min()
         .unwrap_or(0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::AccelKind;
+    use std::path::Path;
+
+    /// Every tile of `scene` rendered by `kernel` (dispatched or baseline), pixel sums in order.
+    fn tiles(data: &SceneData, film: &Film, spp: u32, dispatched: bool) -> Vec<SampleSum> {
+        let [w, h] = data.camera.resolution;
+        let (cancel, rays) = (AtomicBool::new(false), AtomicU64::new(0));
+        let sampling = Sampling { kind: SequenceKind::Sobol, seed: 7 };
+        let mut all = Vec::new();
+        for y0 in (0..h).step_by(TILE as usize) {
+            for x0 in (0..w).step_by(TILE as usize) {
+                let work = TileWork { rect: [x0, y0, (x0 + TILE).min(w), (y0 + TILE).min(h)], film, start: 0, to: spp };
+                let sums = if dispatched {
+                    render_tile::<true, true, true, true, false>(data, sampling, work, &cancel, &rays)
+                } else {
+                    TileKernel::<true, true, true, true, false> {
+                        scene: data,
+                        sampling,
+                        work,
+                        cancel: &cancel,
+                        rays: &rays,
+                    }
+                    .run()
+                };
+                all.extend(sums.unwrap());
+            }
+        }
+        all
+    }
+
+    #[test]
+    fn v3_and_baseline_kernels_agree() {
+        #[cfg(target_arch = "x86_64")]
+        assert!(
+            pulp::x86::V3::try_new().is_some() || std::env::var_os("CI").is_none(),
+            "CI runs on x86-64-v3 machines: without AVX2 this test compares the baseline with itself"
+        );
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes");
+        // Area light + plastic, an environment map + compensated conductors, glass.
+        for name in ["cornell.toml", "peer/bunny.toml", "glass.toml", "peer/anisotropic.toml"] {
+            let mut scene = ggx_scene::load_scene(&root.join(name)).unwrap();
+            scene.camera.resolution = [40, 24];
+            let data = SceneData::new(&scene, AccelKind::Wide);
+            let film = ggx_render::new_film(40, 24).unwrap();
+            let (a, b) = (tiles(&data, &film, 8, true), tiles(&data, &film, 8, false));
+            assert_eq!(a.len(), 40 * 24);
+            assert!(a.iter().any(|s| s.rgb != [0; 3]), "{name}: a black image proves nothing");
+            assert_eq!(a, b, "{name}: x86-64-v3 kernel vs baseline");
+        }
+    }
 }

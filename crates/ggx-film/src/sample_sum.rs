@@ -25,12 +25,14 @@ pub struct SampleSum {
 
 impl SampleSum {
     /// Adds one radiance sample.
+    #[inline(always)]
     pub fn add(&mut self, sample: Vec3) {
         self.add_summed(sample, 1);
     }
 
     /// Adds `n` samples given by their (floating-point) sum, as the GPU returns them: each
     /// channel is clamped to `n * MAX_SAMPLE`; a non-finite sum counts as `n` invalid samples.
+    #[inline(always)]
     pub fn add_summed(&mut self, sum: Vec3, n: u32) {
         let channels = sum.to_array();
         if channels.iter().all(|c| c.is_finite()) {

@@ -190,7 +190,7 @@ impl Bsdf {
     /// `f(wo, wi) |wi.z|`. Plastic: `f = f_coat + w(wo, wi) albedo / pi`, the coat's GGX
     /// reflection plus a base weighted by `Self::base_weight`. Dielectric: both sides,
     /// transmission tinted by `transmittance`.
-    #[inline]
+    #[inline(always)]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         if let Bsdf::Dielectric { bsdf, transmittance, .. } = self {
             return bsdf.eval(wo, wi, TransportMode::Radiance) * tint(wo.z * wi.z < 0.0, *transmittance);
@@ -234,7 +234,7 @@ impl Bsdf {
     /// [`Self::eval`] and [`Self::pdf`] of one pair in one call, equal to both bit for bit:
     /// each microfacet lobe computes its half vector, `D` and Smith terms once
     /// (`ggx_core::Bxdf::eval_pdf`). What light sampling with MIS needs.
-    #[inline]
+    #[inline(always)]
     pub fn eval_pdf(&self, wo: Vec3, wi: Vec3) -> (Vec3, f32) {
         if let Bsdf::Dielectric { bsdf, transmittance, sampling, .. } = self {
             let (f, pdf) = bsdf.eval_pdf(wo, wi, *sampling, TransportMode::Radiance);
@@ -286,7 +286,7 @@ impl Bsdf {
     /// conductor's single- or multiple-scattering lobe, a dielectric's reflection or
     /// transmission), `u` the direction. The plastic is a one-sample mixture whose weight is
     /// `eval / pdf` of the whole mixture.
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, wo: Vec3, u_lobe: f32, u: Vec2) -> Option<BsdfSample> {
         match *self {
             Bsdf::Dielectric { bsdf, transmittance, sampling, .. } => {

@@ -140,7 +140,7 @@ impl GgxConductor {
     /// `f(wo, wi) |wi.z| = F D G2 / (4 |wo.z|) = F D |wi.z| / (2 (|wi.z| so + |wo.z| si))`;
     /// zero when either direction is at or below the horizon, for a delta lobe, and for
     /// degenerate input. Inputs need not be normalized.
-    #[inline]
+    #[inline(always)]
     pub fn eval(&self, wo: Vec3, wi: Vec3) -> Vec3 {
         self.eval_with(wo, wi, |cos| self.fresnel.eval(cos))
     }
@@ -167,7 +167,7 @@ impl GgxConductor {
     /// [`Self::eval`] and [`Self::pdf`] of one pair in one call, equal to both bit for bit: the
     /// half vector, `D(wm)` and `so` are computed once (Mitsuba 3's `eval_pdf`). For light
     /// sampling with MIS, which needs both.
-    #[inline]
+    #[inline(always)]
     pub fn eval_pdf(&self, wo: Vec3, wi: Vec3, sampling: Sampling) -> (Vec3, f32) {
         let a = self.distribution.widths();
         let t = formulas::half_terms(a, wo.into(), wi.into());
@@ -201,7 +201,7 @@ impl GgxConductor {
     /// at or below the horizon or on a back-facing microfacet, or for degenerate input.
     /// Weights are closed forms that never divide by `D`: VNDF `F G2 / G1(wo)`, bounded
     /// `F zi (k zo + so) / (zi so + zo si)`, NDF `F G2 |wo.wm| / (zo wm.z)`.
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, wo: Vec3, u: Vec2, sampling: Sampling) -> Option<BsdfSample> {
         let wo = normalize_or_zero(wo);
         if !(wo.z > 0.0) {

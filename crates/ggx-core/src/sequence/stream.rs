@@ -66,7 +66,7 @@ impl SampleStream {
     }
 
     /// [`Self::get_u32`] with the scramble seeds taken from `seeds`.
-    #[inline]
+    #[inline(always)]
     pub fn get_u32_with<S: ScrambleSeeds>(&self, seeds: &mut S, dim: u32) -> u32 {
         if self.kind == SequenceKind::Sobol as u32 {
             // sobol_owen_u32(sample_index, dim, seed), its seeds from `seeds`.
@@ -86,7 +86,7 @@ impl SampleStream {
     }
 
     /// [`Self::next_1d`] with the scramble seeds taken from `seeds`.
-    #[inline]
+    #[inline(always)]
     pub fn next_1d_with<S: ScrambleSeeds>(&mut self, seeds: &mut S) -> f32 {
         let u = u32_to_unit_f32(self.get_u32_with(seeds, self.dimension));
         self.dimension = self.dimension.wrapping_add(1);
@@ -107,7 +107,7 @@ impl SampleStream {
     }
 
     /// [`Self::next_2d`] with the scramble seeds taken from `seeds`.
-    #[inline]
+    #[inline(always)]
     pub fn next_2d_with<S: ScrambleSeeds>(&mut self, seeds: &mut S) -> Vec2 {
         let d = self.dimension.wrapping_add(3) & !3;
         self.dimension = d.wrapping_add(2);
