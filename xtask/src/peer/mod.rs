@@ -109,6 +109,40 @@ fn command_output(program: &str, args: &[&str]) -> Option<String> {
     Some(String::from_utf8_lossy(&out.stdout).trim().to_owned())
 }
 
+/// The checkout's commit (`git rev-parse --short HEAD`) and whether its tree has changes
+/// not committed (`git status --porcelain`).
+fn revision() -> Revision {
+    let root = render::workspace_root();
+    let git = |args: &[&str]| {
+        let mut all = vec!["-C", root.to_str().unwrap_or(".")];
+        all.extend_from_slice(args);
+        command_output("git", &all)
+    };
+    Revision {
+        commit: git(&["rev-parse", "--short", "HEAD"]).unwrap_or_else(|| "unknown commit".into()),
+        dirty: git(&["status", "--porcelain"]).is_some_and(|s| !s.is_empty()),
+    }
+}
+
+/// A commit and whether the tree had uncommitted changes.
+#[derive(Clone, Debug, PartialEq)]
+struct Revision {
+    commit: String,
+    dirty: bool,
+}
+
+/// What the report says the binaries were built from: the revision at the start of the run
+/// (`start`, taken before the builds), and a note when the checkout was not the same at the end
+/// (`end`), so that an edit made while the renders ran is not mistaken for the measured code.
+fn describe_revision(start: &Revision, end: &Revision) -> String {
+    let built = format!("at {}{}", start.commit, if start.dirty { " with uncommitted changes" } else { "" });
+    if start == end {
+        return built;
+    }
+    let now = format!("{}{}", end.commit, if end.dirty { " with uncommitted changes" } else { "" });
+    format!("{built} (built at the start of the run; the checkout was {now} at its end)")
+}
+
 /// The whole comparison.
 fn compare(o: &Options) -> Result<(), String> {
     let start = Instant::now();
@@ -121,6 +155,9 @@ fn compare(o: &Options) -> Result<(), String> {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     }
     let paths: Vec<PathBuf> = o.scenes.iter().map(|s| scene_path(s)).collect::<Result<_, _>>()?;
+    // Before `setup` builds the release ggx (and the micro-benchmark builds ggx-core's bench):
+    // the sources the binaries are built from.
+    let built_from = revision();
     let setup = setup::ensure(&peer_dir)?;
     let threads = std::thread::available_parallelism().map_or(1, usize::from);
 
@@ -165,21 +202,12 @@ fn compare(o: &Options) -> Result<(), String> {
         outputs.push(p);
     }
     checks.push(crate::bench::checks::files(&outputs));
-    let commit =
-        command_output("git", &["-C", &render::workspace_root().to_string_lossy(), "rev-parse", "--short", "HEAD"])
-            .unwrap_or_else(|| "unknown commit".into());
-    let dirty = command_output("git", &["-C", &render::workspace_root().to_string_lossy(), "status", "--porcelain"])
-        .is_some_and(|s| !s.is_empty());
     let run = Run {
         date: command_output("date", &["-u", "+%Y-%m-%d"]).unwrap_or_else(|| "?".into()),
         cpu: cpu_description(),
         threads,
         load: (load_start, load_average()),
-        ggx: format!(
-            "{} at {commit}{}",
-            env!("CARGO_PKG_VERSION"),
-            if dirty { " with uncommitted changes" } else { "" }
-        ),
+        ggx: format!("{} {}", env!("CARGO_PKG_VERSION"), describe_revision(&built_from, &revision())),
         versions,
         llvm: setup.llvm.display().to_string(),
         quick: o.quick,
@@ -366,4 +394,31 @@ fn scene(
         ],
         files,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rev(commit: &str, dirty: bool) -> Revision {
+        Revision { commit: commit.into(), dirty }
+    }
+
+    #[test]
+    fn the_revision_is_the_one_the_binaries_were_built_from() {
+        assert_eq!(describe_revision(&rev("1e35cea", false), &rev("1e35cea", false)), "at 1e35cea");
+        assert_eq!(
+            describe_revision(&rev("1e35cea", true), &rev("1e35cea", true)),
+            "at 1e35cea with uncommitted changes"
+        );
+        // An edit made while the renders ran does not describe the measured binaries.
+        assert_eq!(
+            describe_revision(&rev("1e35cea", false), &rev("1e35cea", true)),
+            "at 1e35cea (built at the start of the run; the checkout was 1e35cea with uncommitted changes at its end)"
+        );
+        assert_eq!(
+            describe_revision(&rev("1e35cea", true), &rev("b4e9ad2", false)),
+            "at 1e35cea with uncommitted changes (built at the start of the run; the checkout was b4e9ad2 at its end)"
+        );
+    }
 }
