@@ -74,6 +74,10 @@ mod tests {
         assert_eq!(listeners(port), [IpAddr::V4(Ipv4Addr::LOCALHOST)]);
         require_loopback_only(&[("this test", port)]).unwrap();
         drop(listener);
-        assert!(require_loopback_only(&[("nobody", port)]).is_err());
+        // The tests run in parallel: another test's listener may take the freed port at once,
+        // and then the port is in use after all; checked only while it is free.
+        if listeners(port).is_empty() {
+            assert!(require_loopback_only(&[("nobody", port)]).is_err());
+        }
     }
 }
