@@ -1,5 +1,5 @@
-//! `cargo xtask ab --a BIN --b BIN [--runs N] [--spp N] [--width W] [SCENES...]`: which of two
-//! ggx binaries renders faster, measured on a shared machine whose load moves absolute times
+//! `cargo xtask ab --a BIN|--a-rev REV --b BIN|--b-rev REV [--runs N] [--spp N] [--width W]
+//! [SCENES...]`: which of two ggx binaries renders faster, measured on a shared machine whose load moves absolute times
 //! by 5-15 % from one run to the next.
 //!
 //! Each run starts both binaries at once, one render thread each, pinned to CPUs 0 and 1 with
@@ -10,16 +10,20 @@
 //! gave 0.99x-1.04x on the peer three-spheres and bunny (quartiles within 0.94-1.12), where the
 //! medians of five to nine runs one after the other spread from 0.96x to 1.16x. Without two
 //! CPUs or `taskset` the two run one after the other, in alternating order. A table goes to
-//! stdout and to `target/xtask/ab/report.md`.
+//! stdout and to `target/xtask/ab/report.md`. A side given as a git revision is built first,
+//! in a checkout and a target directory of its own ([`revision`]).
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
 use crate::peer::ggx_side::{RenderJob, read_stats, render_args};
-use crate::render::{output_dir, scene_name, scene_paths};
+use crate::render::{output_dir, scene_name, scene_paths, workspace_root};
+
+mod revision;
 
 /// Printed for `--help` and bad arguments.
-const USAGE: &str = "usage: cargo xtask ab --a BIN --b BIN [--runs N] [--spp N] [--width W] [SCENES...]
+const USAGE: &str = "usage: cargo xtask ab --a BIN|--a-rev REV --b BIN|--b-rev REV [--runs N] [--spp N] [--width W]
+                      [SCENES...]
 
   Renders each scene (default: scenes/peer/*.toml) with both ggx binaries at the same time, one
   thread each on CPUs 0 and 1 (swapped every run), and reports the median of the per-run ratios
@@ -27,31 +31,76 @@ const USAGE: &str = "usage: cargo xtask ab --a BIN --b BIN [--runs N] [--spp N] 
   identical. SCENES are names under scenes/ (`cornell`, `peer/bunny`) or paths.
 
   --a BIN, --b BIN   the two ggx binaries (copy one away before rebuilding the other)
+  --a-rev REV, --b-rev REV
+                     a side as a git revision instead: its release ggx, built in a checkout and
+                     target directory of its own under target/xtask/ab/builds/ (kept for the next
+                     run; never build another revision into this checkout's target/: cargo then
+                     links its stale crates into this checkout's next build)
   --runs N           paired runs per scene (default 30)
   --spp N            samples per pixel (default 16)
   --width W          image width (default: the scene's)";
 
+/// One side of the comparison, as asked for.
+#[derive(Clone, Debug, PartialEq)]
+enum Side {
+    /// A ggx binary.
+    Binary(PathBuf),
+    /// A git revision of this checkout, built by [`revision::build`].
+    Revision(String),
+}
+
 /// What `ab` was asked to do.
 #[derive(Clone, Debug, PartialEq)]
-struct Options {
-    a: PathBuf,
-    b: PathBuf,
+struct Request {
+    a: Side,
+    b: Side,
     runs: usize,
     spp: u32,
     width: Option<u32>,
     scenes: Vec<String>,
 }
 
+/// What `ab` measures: [`Request`] with both sides as binaries.
+#[derive(Clone, Debug, PartialEq)]
+struct Options {
+    a: PathBuf,
+    b: PathBuf,
+    /// How the report names each side: its path, and the revision it was built from.
+    labels: [String; 2],
+    runs: usize,
+    spp: u32,
+    width: Option<u32>,
+    scenes: Vec<String>,
+}
+
+impl Options {
+    /// The options of `binaries` (A, B) for `request`, named by `labels`.
+    fn new(request: Request, binaries: [PathBuf; 2], labels: [String; 2]) -> Options {
+        let Request { runs, spp, width, scenes, .. } = request;
+        let [a, b] = binaries;
+        Options { a, b, labels, runs, spp, width, scenes }
+    }
+}
+
 /// Parses the arguments after `ab`.
-fn parse(args: &[String]) -> Result<Options, String> {
+fn parse(args: &[String]) -> Result<Request, String> {
     let (mut a, mut b, mut runs, mut spp, mut width, mut scenes) = (None, None, 30, 16, None, Vec::new());
+    let set = |side: &mut Option<Side>, value: Side, name: &str| match side {
+        Some(_) => Err(format!("{name}: A and B are each given once (--a or --a-rev, --b or --b-rev)")),
+        None => {
+            *side = Some(value);
+            Ok(())
+        }
+    };
     let mut it = args.iter();
     while let Some(arg) = it.next() {
         let mut value = |name: &str| it.next().cloned().ok_or_else(|| format!("{name} needs a value\n\n{USAGE}"));
         let number = |name: &str, v: String| v.parse::<u32>().map_err(|_| format!("{name}: `{v}` is not a count"));
         match arg.as_str() {
-            "--a" => a = Some(PathBuf::from(value("--a")?)),
-            "--b" => b = Some(PathBuf::from(value("--b")?)),
+            "--a" => set(&mut a, Side::Binary(value("--a")?.into()), "--a")?,
+            "--b" => set(&mut b, Side::Binary(value("--b")?.into()), "--b")?,
+            "--a-rev" => set(&mut a, Side::Revision(value("--a-rev")?), "--a-rev")?,
+            "--b-rev" => set(&mut b, Side::Revision(value("--b-rev")?), "--b-rev")?,
             "--runs" => runs = number("--runs", value("--runs")?)? as usize,
             "--spp" => spp = number("--spp", value("--spp")?)?,
             "--width" => width = Some(number("--width", value("--width")?)?),
@@ -60,14 +109,32 @@ fn parse(args: &[String]) -> Result<Options, String> {
             scene => scenes.push(scene.to_owned()),
         }
     }
-    let (Some(a), Some(b)) = (a, b) else { return Err(format!("both --a and --b are needed\n\n{USAGE}")) };
+    let (Some(a), Some(b)) = (a, b) else {
+        return Err(format!("both sides are needed (--a or --a-rev, --b or --b-rev)\n\n{USAGE}"));
+    };
     if runs == 0 || spp == 0 || width == Some(0) {
         return Err("--runs, --spp and --width must be at least 1".to_owned());
     }
     if scenes.is_empty() {
         scenes = ["three-spheres", "bunny", "anisotropic"].map(|s| format!("peer/{s}")).to_vec();
     }
-    Ok(Options { a, b, runs, spp, width, scenes })
+    Ok(Request { a, b, runs, spp, width, scenes })
+}
+
+/// The binary of `side` and how the report names it: a revision is built (or found built)
+/// under `target/xtask/ab/builds/`.
+fn binary(side: &Side) -> Result<(PathBuf, String), String> {
+    match side {
+        Side::Binary(bin) if bin.is_file() => Ok((bin.clone(), format!("`{}`", bin.display()))),
+        Side::Binary(bin) => Err(format!("{}: no such binary", bin.display())),
+        Side::Revision(rev) => {
+            let repo = workspace_root();
+            let cargo = PathBuf::from(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
+            let bin = revision::build(&repo, rev, &output_dir("ab")?.join("builds"), &cargo)?;
+            let commit = revision::resolve(&repo, rev)?;
+            Ok((bin.clone(), format!("`{}` (revision {rev}, {})", bin.display(), &commit[..12])))
+        }
+    }
 }
 
 /// The first, second and third quartiles of `values` (linear interpolation between order
@@ -201,12 +268,9 @@ fn report(o: &Options, rows: &[Row], paired: bool) -> String {
     let how =
         if paired { "at the same time, pinned to CPUs 0 and 1, swapped every run" } else { "one after the other" };
     let mut s = format!(
-        "# ggx A/B\n\nA: `{}`  \nB: `{}`  \n{} runs per scene, {} spp, one render thread each, {how}.\n\n\
+        "# ggx A/B\n\nA: {}  \nB: {}  \n{} runs per scene, {} spp, one render thread each, {how}.\n\n\
          | scene | A ÷ B time (median) | quartiles | A median s | B median s | pixels |\n|---|---:|---|---:|---:|---|\n",
-        o.a.display(),
-        o.b.display(),
-        o.runs,
-        o.spp
+        o.labels[0], o.labels[1], o.runs, o.spp
     );
     for r in rows {
         let pixels = match r.pixels {
@@ -224,12 +288,9 @@ fn report(o: &Options, rows: &[Row], paired: bool) -> String {
 
 /// Runs `ab`.
 pub fn run(args: &[String]) -> Result<(), String> {
-    let o = parse(args)?;
-    for bin in [&o.a, &o.b] {
-        if !bin.is_file() {
-            return Err(format!("{}: no such binary", bin.display()));
-        }
-    }
+    let request = parse(args)?;
+    let ((a, label_a), (b, label_b)) = (binary(&request.a)?, binary(&request.b)?);
+    let o = Options::new(request, [a, b], [label_a, label_b]);
     let scenes = scene_paths(&o.scenes)?;
     let dir = output_dir("ab")?;
     let paired = can_pair();
@@ -259,9 +320,9 @@ mod tests {
         let o = parse(&args("--a x --b y --runs 5 --spp 4 --width 64 cornell peer/bunny")).unwrap();
         assert_eq!(
             o,
-            Options {
-                a: "x".into(),
-                b: "y".into(),
+            Request {
+                a: Side::Binary("x".into()),
+                b: Side::Binary("y".into()),
                 runs: 5,
                 spp: 4,
                 width: Some(64),
@@ -271,9 +332,25 @@ mod tests {
         let o = parse(&args("--b y --a x")).unwrap();
         assert_eq!((o.runs, o.spp, o.width), (30, 16, None));
         assert_eq!(o.scenes, ["peer/three-spheres", "peer/bunny", "peer/anisotropic"]);
-        for bad in ["--a x", "--b y", "--a x --b y --runs 0", "--a x --b y --spp -1", "--a x --b y --frob", "--a"] {
+        let o = parse(&args("--a-rev HEAD~1 --b target/release/ggx")).unwrap();
+        assert_eq!((o.a, o.b), (Side::Revision("HEAD~1".into()), Side::Binary("target/release/ggx".into())));
+        let o = parse(&args("--b-rev main --a-rev b5ffe40")).unwrap();
+        assert_eq!((o.a, o.b), (Side::Revision("b5ffe40".into()), Side::Revision("main".into())));
+        let bad = [
+            "--a x",
+            "--b y",
+            "--a x --b y --runs 0",
+            "--a x --b y --spp -1",
+            "--a x --b y --frob",
+            "--a",
+            "--a-rev",
+            "--a x --a-rev HEAD --b y",
+            "--a-rev HEAD --b-rev HEAD --b-rev HEAD~1",
+        ];
+        for bad in bad {
             assert!(parse(&args(bad)).is_err(), "{bad}");
         }
+        assert!(parse(&args("--a x --a-rev HEAD --b y")).unwrap_err().contains("given once"));
         assert!(parse(&args("--help")).unwrap_err().starts_with("usage"));
     }
 
@@ -328,6 +405,7 @@ mod tests {
         let options = |a: &Path, b: &Path| Options {
             a: a.to_owned(),
             b: b.to_owned(),
+            labels: [a, b].map(|p| format!("`{}`", p.display())),
             runs: 3,
             spp: 2,
             width: None,
