@@ -130,8 +130,7 @@ fn binary(side: &Side) -> Result<(PathBuf, String), String> {
         Side::Revision(rev) => {
             let repo = workspace_root();
             let cargo = PathBuf::from(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
-            let bin = revision::build(&repo, rev, &output_dir("ab")?.join("builds"), &cargo)?;
-            let commit = revision::resolve(&repo, rev)?;
+            let (bin, commit) = revision::build(&repo, rev, &output_dir("ab")?.join("builds"), &cargo)?;
             Ok((bin.clone(), format!("`{}` (revision {rev}, {})", bin.display(), &commit[..12])))
         }
     }
@@ -306,6 +305,15 @@ pub fn run(args: &[String]) -> Result<(), String> {
     std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))
 }
 
+/// Writes `body` as an executable `/bin/sh` script at `path` (the tests' stand-in programs).
+#[cfg(test)]
+fn write_shell_script(path: &Path, body: &str) -> PathBuf {
+    std::fs::write(path, format!("#!/bin/sh\n{body}\n")).unwrap();
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o755)).unwrap();
+    path.to_owned()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -381,11 +389,7 @@ mod tests {
                 image.display()
             )
         };
-        let path = dir.join(name);
-        std::fs::write(&path, format!("#!/bin/sh\n{body}\n")).unwrap();
-        use std::os::unix::fs::PermissionsExt;
-        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
-        path
+        write_shell_script(&dir.join(name), &body)
     }
 
     /// The runs, paired or one after the other, measure what each binary reports: a binary

@@ -45,14 +45,14 @@ pub(super) fn build_dir(builds: &Path, commit: &str) -> PathBuf {
 /// The release `ggx` of revision `rev` of `repo`, built with `cargo` (a program name or path)
 /// into `builds` (see the module docs), or the one an earlier run built. The checkout is a
 /// detached `git worktree`, removed once the binary is built; a build that fails leaves no
-/// binary, so the next run builds again.
-pub(super) fn build(repo: &Path, rev: &str, builds: &Path, cargo: &Path) -> Result<PathBuf, String> {
+/// binary, so the next run builds again. Returns the binary and the full commit hash.
+pub(super) fn build(repo: &Path, rev: &str, builds: &Path, cargo: &Path) -> Result<(PathBuf, String), String> {
     let commit = resolve(repo, rev)?;
     let dir = build_dir(builds, &commit);
     let bin = dir.join("target").join("release").join("ggx");
     if bin.is_file() {
         eprintln!("ab: {rev} ({}) already built: {}", &commit[..12], bin.display());
-        return Ok(bin);
+        return Ok((bin, commit));
     }
     let src = dir.join("src");
     std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
@@ -76,7 +76,7 @@ pub(super) fn build(repo: &Path, rev: &str, builds: &Path, cargo: &Path) -> Resu
     if !bin.is_file() {
         return Err(format!("building {rev} ({commit}) made no {}", bin.display()));
     }
-    Ok(bin)
+    Ok((bin, commit))
 }
 
 /// Removes the worktree checkout at `src` (if any) and git's record of it.
@@ -133,11 +133,7 @@ mod tests {
                 calls.display()
             )
         };
-        let path = dir.join(name);
-        std::fs::write(&path, format!("#!/bin/sh\n{body}\n")).unwrap();
-        use std::os::unix::fs::PermissionsExt;
-        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
-        path
+        super::super::write_shell_script(&dir.join(name), &body)
     }
 
     /// Each revision is built from its own checkout into its own directory, once: the second
@@ -150,13 +146,14 @@ mod tests {
         let builds = dir.join("builds");
         let _ = std::fs::remove_dir_all(&builds);
         let cargo = stub_cargo(&dir, "cargo", false);
-        let old = build(&repo, "HEAD~1", &builds, &cargo).unwrap();
-        let new = build(&repo, "HEAD", &builds, &cargo).unwrap();
+        let (old, _) = build(&repo, "HEAD~1", &builds, &cargo).unwrap();
+        let (new, head) = build(&repo, "HEAD", &builds, &cargo).unwrap();
         assert_eq!(std::fs::read_to_string(&old).unwrap(), "one");
         assert_eq!(std::fs::read_to_string(&new).unwrap(), "two");
-        let head = resolve(&repo, "HEAD").unwrap();
+        assert_eq!(head, resolve(&repo, "HEAD").unwrap());
+        assert_eq!(head.len(), 40);
         assert_eq!(new, build_dir(&builds, &head).join("target/release/ggx"));
-        assert_eq!(build(&repo, &head, &builds, &cargo).unwrap(), new);
+        assert_eq!(build(&repo, &head, &builds, &cargo).unwrap(), (new.clone(), head.clone()));
         assert_eq!(std::fs::read_to_string(dir.join("cargo.calls")).unwrap().lines().count(), 2);
         for bin in [&old, &new] {
             assert!(!bin.parent().unwrap().join("../../src").exists(), "{}", bin.display());
