@@ -204,7 +204,7 @@ impl<const AREA: bool, const ENV: bool, const PLASTIC: bool, const DIELECTRIC: b
             let held = work.film.pixels().get(pixel as usize).map_or(0, |p| p.samples);
             let (first, ring) = (work.start.saturating_add(held), slot % PACKET_RAYS);
             if first < work.to {
-                seeds[ring] = PixelSeeds::new(SampleStream::new(sampling.kind, sampling.seed, pixel, 0).seed);
+                seeds[ring].reset(SampleStream::new(sampling.kind, sampling.seed, pixel, 0).seed);
             }
             for s in first..work.to {
                 let mut stream = SampleStream::new(sampling.kind, sampling.seed, pixel, s);

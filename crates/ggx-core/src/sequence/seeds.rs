@@ -115,6 +115,14 @@ impl PixelSeeds {
     pub fn new(pixel_seed: u32) -> Self {
         Self { pixel_seed, filled: 0, groups: [KeptGroup::default(); PIXEL_SEED_GROUPS] }
     }
+
+    /// Empties the cache for the pixel seeded `pixel_seed`, as [`Self::new`] would, without
+    /// rewriting its groups (only groups `0..filled` are ever read): a render loop that moves
+    /// to the next pixel spares the 648-byte fill and copy a new cache costs.
+    #[inline(always)]
+    pub fn reset(&mut self, pixel_seed: u32) {
+        (self.pixel_seed, self.filled) = (pixel_seed, 0);
+    }
 }
 
 impl ScrambleSeeds for PixelSeeds {
@@ -183,6 +191,26 @@ mod tests {
                 assert_eq!(kept.filled as usize, filled);
             }
         }
+    }
+
+    #[test]
+    fn a_reset_cache_draws_the_new_pixels_samples() {
+        let (a_seed, b_seed) = (
+            SampleStream::new(SequenceKind::Sobol, 3, 8, 0).seed,
+            SampleStream::new(SequenceKind::Sobol, 3, 9, 0).seed,
+        );
+        let mut kept = PixelSeeds::new(a_seed);
+        let (mut a, mut b) = ([0u32; 70], [0u32; 70]);
+        draws(&mut SampleStream::new(SequenceKind::Sobol, 3, 8, 1), &mut kept, &mut a);
+        assert_eq!(kept.filled, 20);
+        // Pixel 9 with the groups pixel 8 left behind: none of them may be read.
+        kept.reset(b_seed);
+        assert_eq!((kept.pixel_seed, kept.filled), (b_seed, 0));
+        draws(&mut SampleStream::new(SequenceKind::Sobol, 3, 9, 1), &mut kept, &mut b);
+        let mut hashed = [0u32; 70];
+        draws(&mut SampleStream::new(SequenceKind::Sobol, 3, 9, 1), &mut HashedSeeds, &mut hashed);
+        assert_eq!(b, hashed);
+        assert_ne!(a, b);
     }
 
     #[test]
