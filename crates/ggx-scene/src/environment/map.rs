@@ -177,16 +177,20 @@ impl EnvMap {
         self.rotation
     }
 
+    #[inline(always)]
     fn to_map(&self, world: Vec3) -> Vec3 {
         self.to_map * world
     }
 
     /// Column and row of the texel seen along unit map-space `d`.
+    #[inline(always)]
     fn cell(&self, d: Vec3) -> (usize, usize) {
         let uv = direction_to_uv(d);
-        let col = ((uv.x * self.width as f32) as usize).min(self.width as usize - 1);
-        let row = ((uv.y * self.height as f32) as usize).min(self.height as usize - 1);
-        (col, row)
+        // `u32` conversions, which vectorize in a batch (`locate_batch`); the same cells as
+        // through `usize`, a map side being at most `u32::MAX` texels.
+        let col = ((uv.x * self.width as f32) as u32).min(self.width - 1);
+        let row = ((uv.y * self.height as f32) as u32).min(self.height - 1);
+        (col as usize, row as usize)
     }
 
     /// Scaled radiance of texel `(col, row)` (zero outside the map).
@@ -280,10 +284,7 @@ impl EnvMap {
     /// core's L2) overlap instead of following one by one.
     pub fn radiance_and_pdf_batch(&self, directions: &[Vec3], out: &mut [(Vec3, f32)]) {
         for (directions, out) in directions.chunks(LOOKUP_BATCH).zip(out.chunks_mut(LOOKUP_BATCH)) {
-            let mut located = [(0usize, 0.0f32); LOOKUP_BATCH];
-            for (l, &d) in located.iter_mut().zip(directions) {
-                *l = self.locate(d);
-            }
+            let located = self.locate_batch(directions);
             let mut records = [[0.0f32; 4]; LOOKUP_BATCH];
             for (r, &(index, _)) in records.iter_mut().zip(&located).take(directions.len()) {
                 *r = self.record_at(index);
@@ -301,6 +302,29 @@ impl EnvMap {
         let d = self.to_map(direction);
         let (col, row) = self.cell(d);
         (row * self.width as usize + col, (1.0 - d.y * d.y).max(0.0).sqrt())
+    }
+
+    /// [`Self::locate`] of up to [`LOOKUP_BATCH`] directions (the lanes past them hold
+    /// `locate(0)`'s answer): the directions turned into map space and split into components,
+    /// then every lane mapped in one loop of fixed length without a call or a branch, which
+    /// the compiler runs in vector lanes. The same bits as [`Self::locate`].
+    #[inline(always)]
+    fn locate_batch(&self, directions: &[Vec3]) -> [(usize, f32); LOOKUP_BATCH] {
+        let mut d = [[0.0f32; LOOKUP_BATCH]; 3];
+        for (k, &w) in directions.iter().take(LOOKUP_BATCH).enumerate() {
+            let m = self.to_map(w);
+            (d[0][k], d[1][k], d[2][k]) = (m.x, m.y, m.z);
+        }
+        let mut cells = [[0u32; 2]; LOOKUP_BATCH];
+        let mut sin_theta = [0.0f32; LOOKUP_BATCH];
+        for k in 0..LOOKUP_BATCH {
+            let m = Vec3::new(d[0][k], d[1][k], d[2][k]);
+            let (col, row) = self.cell(m);
+            cells[k] = [col as u32, row as u32];
+            sin_theta[k] = (1.0 - m.y * m.y).max(0.0).sqrt();
+        }
+        let width = self.width as usize;
+        core::array::from_fn(|k| (cells[k][1] as usize * width + cells[k][0] as usize, sin_theta[k]))
     }
 
     /// Scaled radiance and solid-angle density of a texel's record seen at `sin theta`.

@@ -8,6 +8,7 @@
 mod build;
 mod exr_file;
 mod hdr_file;
+mod inverse_trig;
 mod load;
 mod map;
 mod procedural;
@@ -129,11 +130,13 @@ pub fn uniform_sphere(u: Vec2) -> Vec3 {
 }
 
 /// Equirectangular coordinates of unit `d`: `u = atan2(d.z, d.x) / (2 pi)` wrapped to
-/// `[0, 1)`, `v = acos(d.y) / pi`.
+/// `[0, 1)`, `v = acos(d.y) / pi` (the inverse functions as polynomials within 5e-7 rad,
+/// branch-free, so that a batch of directions maps in vector lanes: [`inverse_trig`]).
+#[inline(always)]
 pub fn direction_to_uv(d: Vec3) -> Vec2 {
-    let phi = d.z.atan2(d.x);
+    let phi = inverse_trig::atan2(d.z, d.x);
     let u = if phi < 0.0 { phi / TAU + 1.0 } else { phi / TAU };
-    Vec2::new(if u >= 1.0 { 0.0 } else { u }, d.y.clamp(-1.0, 1.0).acos() * FRAC_1_PI)
+    Vec2::new(if u >= 1.0 { 0.0 } else { u }, inverse_trig::acos(d.y.clamp(-1.0, 1.0)) * FRAC_1_PI)
 }
 
 /// Inverse of [`direction_to_uv`]: `d = (sin t cos p, cos t, sin t sin p)` with
