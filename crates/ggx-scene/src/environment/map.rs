@@ -301,7 +301,7 @@ impl EnvMap {
     fn locate(&self, direction: Vec3) -> (usize, f32) {
         let d = self.to_map(direction);
         let (col, row) = self.cell(d);
-        (row * self.width as usize + col, (1.0 - d.y * d.y).max(0.0).sqrt())
+        (row * self.width as usize + col, sin_theta(d))
     }
 
     /// [`Self::locate`] of up to [`LOOKUP_BATCH`] directions (the lanes past them hold
@@ -321,7 +321,7 @@ impl EnvMap {
             let m = Vec3::new(d[0][k], d[1][k], d[2][k]);
             let (col, row) = self.cell(m);
             cells[k] = [col as u32, row as u32];
-            sin_theta[k] = (1.0 - m.y * m.y).max(0.0).sqrt();
+            sin_theta[k] = self::sin_theta(m);
         }
         let width = self.width as usize;
         core::array::from_fn(|k| (cells[k][1] as usize * width + cells[k][0] as usize, sin_theta[k]))
@@ -347,6 +347,12 @@ fn luminance_sin_theta(width: u32, height: u32, texels: &[[f32; 4]]) -> impl Ite
 /// A sampling weight computed in `f64`, rounded once to `f32` (at most `f32::MAX`).
 fn to_weight(x: f64) -> f32 {
     x.min(f64::from(f32::MAX)) as f32
+}
+
+/// `sin theta` of unit map-space `d`, whose `y` is `cos theta`: `sqrt(max(1 - y^2, 0))`.
+#[inline(always)]
+fn sin_theta(d: Vec3) -> f32 {
+    (1.0 - d.y * d.y).max(0.0).sqrt()
 }
 
 /// Solid-angle density of a cell of density `cell_pdf` (over the unit square) at polar angle
