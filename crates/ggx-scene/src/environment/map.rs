@@ -193,6 +193,12 @@ impl EnvMap {
         (col as usize, row as usize)
     }
 
+    /// Row-major index of texel `(col, row)`: `row width + col`.
+    #[inline(always)]
+    fn texel_index(&self, col: usize, row: usize) -> usize {
+        row * self.width as usize + col
+    }
+
     /// Scaled radiance of texel `(col, row)` (zero outside the map).
     pub fn texel(&self, col: usize, row: usize) -> Vec3 {
         self.scaled(self.record(col, row))
@@ -208,7 +214,7 @@ impl EnvMap {
         if col >= self.width as usize {
             return [0.0; 4];
         }
-        self.record_at(row * self.width as usize + col)
+        self.record_at(self.texel_index(col, row))
     }
 
     /// The stored record at row-major `index` (zeros past the map).
@@ -301,7 +307,7 @@ impl EnvMap {
     fn locate(&self, direction: Vec3) -> (usize, f32) {
         let d = self.to_map(direction);
         let (col, row) = self.cell(d);
-        (row * self.width as usize + col, sin_theta(d))
+        (self.texel_index(col, row), sin_theta(d))
     }
 
     /// [`Self::locate`] of up to [`LOOKUP_BATCH`] directions (the lanes past them hold
@@ -316,15 +322,14 @@ impl EnvMap {
             (d[0][k], d[1][k], d[2][k]) = (m.x, m.y, m.z);
         }
         let mut cells = [[0u32; 2]; LOOKUP_BATCH];
-        let mut sin_theta = [0.0f32; LOOKUP_BATCH];
+        let mut sines = [0.0f32; LOOKUP_BATCH];
         for k in 0..LOOKUP_BATCH {
             let m = Vec3::new(d[0][k], d[1][k], d[2][k]);
             let (col, row) = self.cell(m);
             cells[k] = [col as u32, row as u32];
-            sin_theta[k] = self::sin_theta(m);
+            sines[k] = sin_theta(m);
         }
-        let width = self.width as usize;
-        core::array::from_fn(|k| (cells[k][1] as usize * width + cells[k][0] as usize, sin_theta[k]))
+        core::array::from_fn(|k| (self.texel_index(cells[k][0] as usize, cells[k][1] as usize), sines[k]))
     }
 
     /// Scaled radiance and solid-angle density of a texel's record seen at `sin theta`.
