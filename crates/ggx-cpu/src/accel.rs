@@ -135,6 +135,7 @@ impl Accel {
     /// Closest hit along `origin + t dir`, `t` in `(0, t_max)`; of two triangles at the same
     /// distance, the first the walk meets. On the wide tree a ray with a NaN component or an
     /// infinite origin hits nothing (obvhs' trees debug-assert a finite ray).
+    #[inline(always)]
     pub fn closest(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Option<Hit> {
         let (tri, triangle, t) = match &self.tree {
             Tree::Wide { bvh, packets } => {
@@ -172,6 +173,7 @@ impl Accel {
     /// its box's by more than the box test's margin, at grazing incidence, either walk can
     /// miss it depending on the order it culls boxes in, as against a brute-force loop.)
     /// obvhs' trees take the rays one by one, with [`Self::closest`].
+    #[inline(always)]
     pub fn closest_packet(&self, rays: &[(Vec3, Vec3)], hits: &mut [Option<Hit>]) {
         let Tree::Wide { bvh, packets } = &self.tree else {
             for (&(o, d), hit) in rays.iter().zip(hits.iter_mut()) {
@@ -206,6 +208,7 @@ impl Accel {
     /// True when nothing blocks `origin + t dir` for `t` in `(0, t_max)` (shadow rays). On the
     /// wide tree a ray with a NaN component or an infinite origin hits nothing, so it is
     /// unoccluded (obvhs' trees debug-assert a finite ray).
+    #[inline(always)]
     pub fn unoccluded(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
         match &self.tree {
             Tree::Wide { bvh, packets } => {
@@ -367,6 +370,7 @@ fn pack_leaves(wide: &mut WideBvh, tris: &[BvhTriangle], indices: &[u32]) -> Vec
 /// Barycentrics `(b1, b2)` of the ray's intersection with the triangle's plane, Moller &
 /// Trumbore 1997: `b1 = (s . p) / det`, `b2 = (d . q) / det` with `p = d x e2`, `q = s x e1`.
 /// (`v1 - v0` is `-(v0 - v1)` exactly: rounding to nearest is symmetric.)
+#[inline(always)]
 fn barycentrics(t: &RayTriangle, origin: Vec3, dir: Vec3) -> (f32, f32) {
     let (v0, e1, e2) = (Vec3::from(t.v0), -Vec3::from(t.e1), Vec3::from(t.e2));
     let p = dir.cross(e2);

@@ -50,6 +50,7 @@ impl RayPacket {
     /// The packet of `rays`, `(origin, direction)` with `tmin = 0` (the first [`RAYS`]; the lanes
     /// past them are dead). A ray with a NaN component or an infinite origin is dead too: it
     /// hits nothing, as in [`WideBvh::traverse`].
+    #[inline(always)]
     pub(crate) fn new(rays: &[(glam::Vec3, glam::Vec3)]) -> RayPacket {
         let mut p = RayPacket {
             origin: [[0.0; RAYS]; 3],

@@ -55,6 +55,7 @@ impl Distribution1D {
     /// Picks a segment with probability `pmf = func[i] / sum(func)` by inverting the CDF at
     /// `u` in `[0, 1)`. Returns `(index, pmf, u remapped to [0, 1) inside the segment)`, or
     /// `None` when empty.
+    #[inline(always)]
     pub fn sample_discrete(&self, u: f32) -> Option<(usize, f32, f32)> {
         let (i, du) = invert_cdf(&self.cdf, &self.guide, u)?;
         Some((i, self.pmf(i), du))
@@ -69,6 +70,7 @@ impl Distribution1D {
     }
 
     /// Probability of segment `i` (0 when out of range).
+    #[inline]
     pub fn pmf(&self, i: usize) -> f32 {
         self.func.get(i).map_or(0.0, |f| f / (self.integral * self.len() as f32))
     }
@@ -87,6 +89,7 @@ impl Distribution1D {
 /// `u` inside it in `[0, 1)`; `None` for an empty table. `guide` ([`guide_table`]) gives the
 /// search its starting segment; any guide (even an empty or wrong one) gives the same segment
 /// as a binary search over `cdf`, which is what the GPU kernel runs.
+#[inline(always)]
 fn invert_cdf(cdf: &[f32], guide: &[u32], u: f32) -> Option<(usize, f32)> {
     let n = cdf.len().checked_sub(1).filter(|&n| n > 0)?;
     let u = clamp_u(u);
@@ -112,6 +115,7 @@ fn segment_offset(cdf: &[f32], i: usize, u: f32) -> f32 {
 /// at `guide[floor(u K)]` and walks down, then up, to it: with [`guide_table`]'s `K = n`
 /// entries the walk takes about one step on average (the cutpoint method, Chen & Asau 1974;
 /// Devroye 1986, 3.2.4) where the binary search takes `log2 n` dependent loads.
+#[inline]
 fn find_segment(cdf: &[f32], guide: &[u32], n: usize, u: f32) -> usize {
     walk_to_segment(cdf, n, u, guide_start(guide, n, u))
 }

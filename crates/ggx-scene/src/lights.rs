@@ -91,17 +91,20 @@ impl AreaLights {
 
     /// Picks an emitter proportionally to power. Returns `(emitter index, pmf, u remapped to
     /// [0, 1))`, or `None` when there are no lights.
+    #[inline]
     pub fn sample(&self, u: f32) -> Option<(usize, f32, f32)> {
         self.distribution.sample_discrete(u)
     }
 
     /// Probability of picking emitter `i`.
+    #[inline]
     pub fn pmf(&self, i: usize) -> f32 {
         self.distribution.pmf(i)
     }
 
     /// Area density of sampling a point on emitter `i` uniformly after picking it:
     /// `pmf / area`.
+    #[inline]
     pub fn pdf_area(&self, i: usize) -> f32 {
         self.emitters.get(i).map_or(0.0, |e| self.pmf(i) / e.area)
     }

@@ -27,6 +27,7 @@ pub struct Triangle {
 
 impl Triangle {
     /// The three vertices.
+    #[inline]
     pub fn vertices(&self) -> [Vec3; 3] {
         [self.v0, self.v1, self.v2].map(Vec3::from)
     }
@@ -63,6 +64,7 @@ impl ShadingNormals {
     }
 
     /// Barycentric interpolation `normalize(b0 n0 + b1 n1 + b2 n2)` with `b0 = 1 - b1 - b2`.
+    #[inline]
     pub fn interpolate(&self, b1: f32, b2: f32) -> Vec3 {
         let [n0, n1, n2] = self.normals.map(|n| Vec3::new(n[0], n[1], n[2]));
         ((1.0 - b1 - b2) * n0 + b1 * n1 + b2 * n2).normalize_or_zero()
@@ -90,6 +92,7 @@ impl TriangleUvs {
     }
 
     /// Barycentric interpolation `b0 uv0 + b1 uv1 + b2 uv2` with `b0 = 1 - b1 - b2`.
+    #[inline]
     pub fn interpolate(&self, b1: f32, b2: f32) -> Vec2 {
         (1.0 - b1 - b2) * self.at(0) + b1 * self.at(1) + b2 * self.at(2)
     }

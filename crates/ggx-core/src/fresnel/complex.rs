@@ -37,6 +37,7 @@ impl<L: Lanes> Complex<L> {
     }
     /// Principal square root: `t1 = sqrt((|z| + |re|) / 2)`, `t2 = im / (2 t1)` (Press et al. 5.4);
     /// `0` where `|z|` is 0, and `(|t2|, t1 sign(im))` where `re < 0`.
+    #[inline(always)]
     pub fn sqrt(self) -> Self {
         let n = self.norm().sqrt();
         let t1 = (L::splat(0.5) * (n + self.re.abs())).sqrt();

@@ -53,7 +53,7 @@ pub fn fresnel_complex(cos_theta_i: f32, eta: f32, k: f32) -> f32 {
 
 /// [`fresnel_complex`] of the three channels of `eta + i k` at once, each lane bit for bit the
 /// scalar function's value.
-#[inline]
+#[inline(always)]
 pub(crate) fn fresnel_complex_rgb(cos_theta_i: f32, eta: Vec3, k: Vec3) -> Vec3 {
     let c = Vec3A::splat(cos_theta_i.max(0.0).min(1.0));
     Vec3::from(fresnel_complex_lanes(c, Vec3A::from(eta), Vec3A::from(k)))

@@ -103,6 +103,7 @@ impl Environment {
 
     /// [`Self::radiance`] and [`Self::pdf`] along unit `direction` (the same values), with one
     /// texel lookup for a map.
+    #[inline]
     pub fn radiance_and_pdf(&self, direction: Vec3) -> (Vec3, f32) {
         match self {
             Self::Constant(l) => (*l, 0.25 * FRAC_1_PI),
