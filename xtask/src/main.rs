@@ -2,7 +2,8 @@
 //! (the rust-analyzer convention). Commands:
 //!
 //! * `ci`: everything CI checks, in order, stopping at the first failure: a Vulkan driver
-//!   (lavapipe is installed with apt-get where none is, see [`system`]), rustfmt, clippy with
+//!   (lavapipe is installed with apt-get where none is, see [`system`]), rustfmt, glam's
+//!   math through std in the `ggx` binary (see [`glam_math`]), clippy with
 //!   `-D warnings`, the `no_std` build proof, the whole test suite under `CI=true` (GPU tests
 //!   fail without an adapter), then `stress --quick`, `diff --quick`, `bench --quick`, the
 //!   Slurm scenario of `farm --scenario` (with the debug ggx of the test step) and
@@ -30,6 +31,7 @@ mod bench;
 mod diff;
 mod farm;
 mod fuzz;
+mod glam_math;
 mod peer;
 mod render;
 mod stress;
@@ -179,6 +181,8 @@ fn ci() -> Result<(), String> {
     // `xtask-flip` (a workspace member: clippy and the tests build it) is C++ underneath.
     system::ensure_cxx()?;
     cargo(&["fmt", "--all", "--check"])?;
+    // glam's Vec3 math through std, not libm's legacy-SSE sqrtss (see `glam_math`).
+    glam_math::check()?;
     cargo(&["clippy", "--workspace", "--all-targets", "--exclude", NOSTD_CHECK, "--", "-D", "warnings"])?;
     // no_std proofs: the core without default features, and a #![no_std] consumer that
     // defines its own panic handler (a duplicate lang item error if std were linked).
