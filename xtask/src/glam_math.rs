@@ -3,26 +3,18 @@
 //! glam's `libm` feature routes `Vec3::length`, `normalize` and the rest through libm even
 //! where std is linked, and libm 0.2's `sqrtf` on x86-64 is inline assembly of the legacy-SSE
 //! `sqrtss`. Inside the x86-64-v3 tile kernel, whose AVX code leaves the upper halves of the
-//! vector registers in use, that one instruction cost peer three-spheres 1.29x of its render
-//! time on an Intel Xeon (README, Speed). ggx-core therefore asks glam for `nostd-libm`: libm
+//! vector registers in use, that one instruction made peer three-spheres 1.29x slower on an
+//! Intel Xeon (README, Speed). ggx-core therefore asks glam for `nostd-libm`: libm
 //! only where std is absent. This check fails if any crate of the `ggx` binary's dependency
 //! graph turns glam's `libm` feature on again.
-
-use std::process::Command;
 
 /// The glam feature that forces libm's math over std's.
 const FORCED_LIBM: &str = "glam feature \"libm\"";
 
 /// Fails when the `ggx-cli` graph enables glam's `libm` feature, naming what enables it.
 pub fn check() -> Result<(), String> {
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    let args = ["tree", "-p", "ggx-cli", "-e", "features", "-i", "glam", "--prefix", "depth"];
-    eprintln!("\n==> cargo {}", args.join(" "));
-    let out = Command::new(cargo).args(args).output().map_err(|e| format!("cargo tree: {e}"))?;
-    if !out.status.success() {
-        return Err(format!("`cargo {}` failed: {}", args.join(" "), String::from_utf8_lossy(&out.stderr)));
-    }
-    forced_libm(&String::from_utf8_lossy(&out.stdout))
+    let tree = crate::cargo_stdout(&["tree", "-p", "ggx-cli", "-e", "features", "-i", "glam", "--prefix", "depth"])?;
+    forced_libm(&tree)
 }
 
 /// Parses `cargo tree -e features -i glam --prefix depth` output: an error listing the lines

@@ -128,7 +128,7 @@ fn cargo(args: &[&str]) -> Result<(), String> {
 
 /// Runs `cargo <args>` with the environment variables `env` set.
 fn cargo_with(args: &[&str], env: &[(&str, &str)]) -> Result<(), String> {
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let cargo = cargo_program();
     let vars: Vec<String> = env.iter().map(|(k, v)| format!("{k}={v} ")).collect();
     let line = format!("{}cargo {}", vars.concat(), args.join(" "));
     eprintln!("\n==> {line}");
@@ -137,6 +137,23 @@ fn cargo_with(args: &[&str], env: &[(&str, &str)]) -> Result<(), String> {
         Command::new(cargo).args(args).envs(env.iter().copied()).status().map_err(|e| format!("{line}: {e}"))?;
     eprintln!("<== {line}: {:.1} s", start.elapsed().as_secs_f64());
     if status.success() { Ok(()) } else { Err(format!("`{line}` failed ({status})")) }
+}
+
+/// The cargo that runs xtask (`$CARGO`), or `cargo` from `PATH`.
+fn cargo_program() -> String {
+    std::env::var("CARGO").unwrap_or_else(|_| "cargo".into())
+}
+
+/// Runs `cargo <args>` and returns its standard output, failing with the command line and its
+/// standard error if it fails.
+fn cargo_stdout(args: &[&str]) -> Result<String, String> {
+    let line = format!("cargo {}", args.join(" "));
+    eprintln!("\n==> {line}");
+    let out = Command::new(cargo_program()).args(args).output().map_err(|e| format!("{line}: {e}"))?;
+    if !out.status.success() {
+        return Err(format!("`{line}` failed ({}): {}", out.status, String::from_utf8_lossy(&out.stderr)));
+    }
+    Ok(String::from_utf8_lossy(&out.stdout).into_owned())
 }
 
 /// Runs an xtask command in this process, timed like [`cargo`].
