@@ -129,7 +129,7 @@ fn binary(side: &Side) -> Result<(PathBuf, String), String> {
         Side::Binary(bin) => Err(format!("{}: no such binary", bin.display())),
         Side::Revision(rev) => {
             let repo = workspace_root();
-            let cargo = PathBuf::from(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()));
+            let cargo = PathBuf::from(crate::cargo_program());
             let (bin, commit) = revision::build(&repo, rev, &output_dir("ab")?.join("builds"), &cargo)?;
             Ok((bin.clone(), format!("`{}` (revision {rev}, {})", bin.display(), &commit[..12])))
         }

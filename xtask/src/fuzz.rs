@@ -38,7 +38,7 @@ pub fn run(args: &[String]) -> Result<(), String> {
             a => return Err(format!("fuzz: unknown argument `{a}` (usage: cargo xtask fuzz [--cases N])")),
         }
     }
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let cargo = crate::cargo_program();
     let start = Instant::now();
     for (package, test) in TARGETS {
         let line = format!("GGX_FUZZ_CASES={cases} cargo test --release -p {package} --test {test}");

@@ -139,9 +139,10 @@ fn cargo_with(args: &[&str], env: &[(&str, &str)]) -> Result<(), String> {
     if status.success() { Ok(()) } else { Err(format!("`{line}` failed ({status})")) }
 }
 
-/// The cargo that runs xtask (`$CARGO`), or `cargo` from `PATH`.
-fn cargo_program() -> String {
-    std::env::var("CARGO").unwrap_or_else(|_| "cargo".into())
+/// The cargo that runs xtask (`$CARGO`), or `cargo` from `PATH`: every command that starts
+/// cargo takes it from here.
+fn cargo_program() -> std::ffi::OsString {
+    std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into())
 }
 
 /// Runs `cargo <args>` and returns its standard output, failing with the command line and its

@@ -26,6 +26,22 @@ std::thread_local! {
         const { core::cell::RefCell::new([(0, 0.0, 0); STACK_SIZE]) };
 }
 
+/// Runs `walk` on this thread's stack in `key`, or on a fresh one from `empty` (built only
+/// then) when that stack is in use (a walk started from inside another's leaf callback). A walk
+/// reads only the entries it wrote, so what an earlier walk left on the thread's stack does not
+/// matter.
+#[inline(always)]
+fn with_stack<S: 'static, R>(
+    key: &'static std::thread::LocalKey<core::cell::RefCell<S>>,
+    empty: impl FnOnce() -> S,
+    walk: impl FnOnce(&mut S) -> R,
+) -> R {
+    key.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut stack) => walk(&mut stack),
+        Err(_) => walk(&mut empty()),
+    })
+}
+
 /// Deepest tree the stack holds: `(WIDTH - 1) * MAX_DEPTH + 1 <= STACK_SIZE`.
 const MAX_DEPTH: usize = (STACK_SIZE - 1) / (WIDTH - 1);
 
@@ -372,14 +388,11 @@ impl WideBvh {
         if self.nodes.is_empty() || !ray.origin.is_finite() || ray.direction.is_nan() {
             return;
         }
-        STACK.with(|cell| match cell.try_borrow_mut() {
-            Ok(mut stack) => self.arch.dispatch(Walk::<ORDERED, _> { bvh: self, ray, stack: &mut stack, leaf }),
-            // A traversal from inside a leaf callback: a stack of its own.
-            Err(_) => {
-                let stack = &mut [(0, 0.0); STACK_SIZE];
-                self.arch.dispatch(Walk::<ORDERED, _> { bvh: self, ray, stack, leaf })
-            }
-        })
+        with_stack(
+            &STACK,
+            || [(0, 0.0); STACK_SIZE],
+            |stack| self.arch.dispatch(Walk::<ORDERED, _> { bvh: self, ray, stack, leaf }),
+        )
     }
 
     /// [`Self::traverse`] with its stack. The slab test uses the exact reciprocal of the
@@ -444,18 +457,14 @@ impl WideBvh {
         if self.nodes.is_empty() || rays.live == 0 {
             return;
         }
-        PACKET_STACK.with(|cell| match cell.try_borrow_mut() {
-            Ok(mut stack) => self.arch.dispatch(PacketWalk { bvh: self, rays, t_max, stack: &mut stack, leaf }),
-            // A packet walk from inside a leaf callback: a stack of its own.
-            Err(_) => {
-                let stack = &mut [(0, 0.0, 0); STACK_SIZE];
-                self.arch.dispatch(PacketWalk { bvh: self, rays, t_max, stack, leaf })
-            }
-        })
+        with_stack(
+            &PACKET_STACK,
+            || [(0, 0.0, 0); STACK_SIZE],
+            |stack| self.arch.dispatch(PacketWalk { bvh: self, rays, t_max, stack, leaf }),
+        )
     }
 
-    /// [`Self::traverse_packet`] with its stack (12 bytes an entry; only the entries below `len`
-    /// are read, so what an earlier walk left there does not matter).
+    /// [`Self::traverse_packet`] with its stack (12 bytes an entry; see [`with_stack`]).
     #[inline(always)]
     fn walk_packet(&self, p: &RayPacket, t_max: &mut [f32; RAYS], stack: &mut PacketStack, mut leaf: impl PacketLeaf) {
         let mut len = 0usize;

@@ -16,8 +16,7 @@ impl FlipTool {
     pub fn build() -> Result<FlipTool, String> {
         system::ensure_cxx()?;
         let root = render::workspace_root();
-        let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-        let status = Command::new(cargo)
+        let status = Command::new(crate::cargo_program())
             .args(["build", "-q", "-p", "xtask-flip"])
             .current_dir(&root)
             .status()

@@ -155,7 +155,7 @@ impl Options {
         }
         if options.ggx.as_os_str().is_empty() {
             eprintln!("==> cargo build --release -p ggx-cli (the ggx the scenario runs)");
-            let status = Command::new(std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into()))
+            let status = Command::new(crate::cargo_program())
                 .args(["build", "--release", "-p", "ggx-cli"])
                 .current_dir(&root)
                 .status()
